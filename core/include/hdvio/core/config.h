@@ -1,0 +1,56 @@
+#pragma once
+// Strict YAML configuration. Every key a program reads is recorded; finish() turns any key
+// that was never read into an error, so a typo never silently falls back to a default.
+// Errors name the file, the line and the key path. effectiveYaml() returns everything read,
+// defaults included, for writing next to results.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+namespace hdvio {
+
+class ConfigReader {
+ public:
+  static ConfigReader fromFile(const std::string& path);
+  static ConfigReader fromString(const std::string& yaml, const std::string& name = "<string>");
+
+  bool has(const std::string& key) const;
+
+  // Supported T: bool, int, int64_t, double, std::string, std::vector<double>,
+  // std::vector<int>, std::vector<std::string>.
+  template <class T> void read(const std::string& key, T* value) const;          // required
+  template <class T> void readOptional(const std::string& key, T* value) const;  // *value = default
+  void readInRange(const std::string& key, double* value, double lo, double hi,
+                   bool required = false) const;
+  void readInRange(const std::string& key, int* value, int lo, int hi, bool required = false) const;
+  void readChoice(const std::string& key, std::string* value,
+                  const std::vector<std::string>& choices, bool required = false) const;
+
+  ConfigReader section(const std::string& key) const;  // nested map, required
+  std::vector<ConfigReader> list(const std::string& key) const;  // sequence of maps, required
+
+  // Throws InputError naming every key of this map that was never read.
+  void finish() const;
+
+  std::string effectiveYaml() const;
+  const std::string& file() const;
+  const std::string& path() const { return path_; }  // key path of this map, e.g. "sim.wind"
+
+ private:
+  struct State;
+  ConfigReader(std::shared_ptr<State> state, YAML::Node node, YAML::Node effective,
+               std::string path);
+  YAML::Node lookup(const std::string& key, bool required) const;
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& key,
+                         const std::string& problem) const;
+  std::string keyPath(const std::string& key) const;
+
+  std::shared_ptr<State> state_;
+  YAML::Node node_;
+  YAML::Node effective_;
+  std::string path_;
+};
+
+}  // namespace hdvio

@@ -1,0 +1,122 @@
+#pragma once
+// Factors: keys + residual + noise model, evaluated by Ceres.
+//
+// Most factors derive from FactorT (GTSAM's evaluateError shape): they write only the
+// UNWHITENED residual and its Jacobians with respect to the TANGENT spaces of their variables;
+// FactorT whitens both and lifts the Jacobians to the ambient parameter sizes Ceres expects.
+// Nothing is mutated inside Evaluate; a factor is immutable once built.
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <ceres/sized_cost_function.h>
+
+#include "hdvio/core/key.h"
+#include "hdvio/core/manifolds.h"
+#include "hdvio/core/noise_model.h"
+#include "hdvio/core/values.h"
+
+namespace hdvio {
+
+// Whitened residual and tangent-space Jacobians of one factor at a linearization point.
+struct Linearization {
+  Eigen::VectorXd residual;
+  std::vector<Eigen::MatrixXd> jacobians;  // one per key, dim x tangentDim(key)
+};
+
+class Factor {
+ public:
+  Factor(std::vector<Key> keys, NoiseModelPtr noise);
+  virtual ~Factor() = default;
+  Factor(const Factor&) = delete;
+  Factor& operator=(const Factor&) = delete;
+
+  const std::vector<Key>& keys() const { return keys_; }
+  int dim() const { return noise_->dim(); }
+  const NoiseModel& noiseModel() const { return *noise_; }
+  ceres::LossFunction* loss() const { return noise_->loss(); }
+
+  // The whitened cost function; its parameter blocks are the keys in order. Owned by the factor.
+  virtual ceres::CostFunction* costFunction() const = 0;
+
+  // Whitened residual at values (no robust loss); false if evaluation failed.
+  bool whitenedError(const Values& values, Eigen::VectorXd* residual) const;
+  double error(const Values& values) const;  // 0.5 * |whitened residual|^2
+  // Whitened residual and tangent Jacobians (robust loss not applied).
+  bool linearize(const Values& values, Linearization* out) const;
+
+ private:
+  std::vector<Key> keys_;
+  NoiseModelPtr noise_;
+};
+
+using FactorPtr = std::shared_ptr<const Factor>;
+
+// Derived must provide
+//   bool evaluateError(const double* const* x, double* residual, double** tangent_jacobians) const;
+// where x[i] is variable i's ambient parameter block, residual has kDim entries, and
+// tangent_jacobians[i] (null if not wanted) is row-major kDim x Vars_i::kTangent.
+template <class Derived, int kDim, class... Vars>
+class FactorT : public Factor {
+ public:
+  static constexpr int kNumVars = sizeof...(Vars);
+  static constexpr std::array<int, kNumVars> kTangent{Vars::kTangent...};
+  static constexpr std::array<int, kNumVars> kAmbient{Vars::kAmbient...};
+
+  FactorT(const std::array<Key, kNumVars>& keys, NoiseModelPtr noise)
+      : Factor(std::vector<Key>(keys.begin(), keys.end()), std::move(noise)),
+        cost_(std::make_unique<Cost>(static_cast<const Derived*>(this))) {}
+
+  ceres::CostFunction* costFunction() const override { return cost_.get(); }
+
+ private:
+  class Cost : public ceres::SizedCostFunction<kDim, Vars::kAmbient...> {
+   public:
+    explicit Cost(const Derived* factor) : factor_(factor) {}
+    bool Evaluate(double const* const* x, double* residual, double** jacobians) const override {
+      constexpr int kTangentTotal = (Vars::kTangent + ...);
+      std::array<double, kDim * kTangentTotal> tangent_storage;
+      std::array<double*, kNumVars> tangent{};
+      int offset = 0;
+      for (int i = 0; i < kNumVars; ++i) {
+        tangent[i] = (jacobians && jacobians[i]) ? tangent_storage.data() + offset : nullptr;
+        offset += kDim * kTangent[i];
+      }
+      if (!factor_->evaluateError(x, residual, jacobians ? tangent.data() : nullptr)) return false;
+      const NoiseModel& noise = factor_->noiseModel();
+      noise.whitenResidual(residual);
+      if (!jacobians) return true;
+      liftAll(x, jacobians, tangent.data(), std::index_sequence_for<Vars...>{});
+      return true;
+    }
+
+   private:
+    template <std::size_t... I>
+    void liftAll(double const* const* x, double** jacobians, double** tangent,
+                 std::index_sequence<I...>) const {
+      (lift<Vars>(x[I], jacobians[I], tangent[I]), ...);
+    }
+    template <class Var>
+    void lift(const double* x, double* ambient_jacobian, double* tangent_jacobian) const {
+      if (!ambient_jacobian) return;
+      factor_->noiseModel().whitenJacobian(tangent_jacobian, Var::kTangent);
+      using TangentJ = Eigen::Matrix<double, kDim, Var::kTangent, Eigen::RowMajor>;
+      using AmbientJ = Eigen::Matrix<double, kDim, Var::kAmbient, Eigen::RowMajor>;
+      Eigen::Map<const TangentJ> Jt(tangent_jacobian);
+      Eigen::Map<AmbientJ> Ja(ambient_jacobian);
+      if constexpr (Var::kEuclidean) {
+        Ja = Jt;
+      } else {
+        Eigen::Matrix<double, Var::kTangent, Var::kAmbient, Eigen::RowMajor> L;
+        Var::lift(x, L.data());
+        Ja.noalias() = Jt * L;
+      }
+    }
+    const Derived* factor_;
+  };
+
+  std::unique_ptr<Cost> cost_;
+};
+
+}  // namespace hdvio

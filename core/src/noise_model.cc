@@ -1,0 +1,87 @@
+#include "hdvio/core/noise_model.h"
+
+#include <Eigen/Cholesky>
+#include <stdexcept>
+
+namespace hdvio {
+namespace {
+using RowMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::isotropic(int dim, double sigma) {
+  return diagonal(Eigen::VectorXd::Constant(dim, sigma));
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::diagonal(const Eigen::VectorXd& sigmas) {
+  if ((sigmas.array() <= 0.0).any() || !sigmas.allFinite())
+    throw std::invalid_argument("NoiseModel::diagonal: sigmas must be positive and finite");
+  std::shared_ptr<NoiseModel> m(new NoiseModel());
+  m->dim_ = static_cast<int>(sigmas.size());
+  m->diagonal_ = true;
+  m->inv_sigmas_ = sigmas.cwiseInverse();
+  return m;
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::sqrtInformation(const Eigen::MatrixXd& S) {
+  if (S.rows() != S.cols() || !S.allFinite())
+    throw std::invalid_argument("NoiseModel::sqrtInformation: need a finite square matrix");
+  std::shared_ptr<NoiseModel> m(new NoiseModel());
+  m->dim_ = static_cast<int>(S.rows());
+  m->diagonal_ = false;
+  m->sqrt_info_ = S;
+  return m;
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd& I) {
+  const Eigen::MatrixXd sym = 0.5 * (I + I.transpose());
+  Eigen::LLT<Eigen::MatrixXd> llt(sym);
+  if (llt.info() != Eigen::Success)
+    throw std::invalid_argument("NoiseModel::information: matrix is not positive definite");
+  // I = L L^T  =>  S = L^T satisfies S^T S = I.
+  return sqrtInformation(llt.matrixU());
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::covariance(const Eigen::MatrixXd& C) {
+  const Eigen::MatrixXd sym = 0.5 * (C + C.transpose());
+  Eigen::LLT<Eigen::MatrixXd> llt(sym);
+  if (llt.info() != Eigen::Success)
+    throw std::invalid_argument("NoiseModel::covariance: matrix is not positive definite");
+  // C = L L^T  =>  S = L^-1 satisfies S^T S = C^-1.
+  const Eigen::MatrixXd L = llt.matrixL();
+  return sqrtInformation(
+      L.triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(C.rows(), C.cols())));
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::robust(
+    std::shared_ptr<ceres::LossFunction> loss) const {
+  std::shared_ptr<NoiseModel> m(new NoiseModel(*this));
+  m->loss_ = std::move(loss);
+  return m;
+}
+
+Eigen::MatrixXd NoiseModel::sqrtInformationMatrix() const {
+  if (diagonal_) return inv_sigmas_.asDiagonal();
+  return sqrt_info_;
+}
+
+void NoiseModel::whitenResidual(double* r) const {
+  Eigen::Map<Eigen::VectorXd> v(r, dim_);
+  if (diagonal_) {
+    v.array() *= inv_sigmas_.array();
+  } else {
+    const Eigen::VectorXd tmp = sqrt_info_ * v;
+    v = tmp;
+  }
+}
+
+void NoiseModel::whitenJacobian(double* J, int cols) const {
+  Eigen::Map<RowMatX> M(J, dim_, cols);
+  if (diagonal_) {
+    M = inv_sigmas_.asDiagonal() * M;
+  } else {
+    const RowMatX tmp = sqrt_info_ * M;
+    M = tmp;
+  }
+}
+
+}  // namespace hdvio

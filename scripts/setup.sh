@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs the Debian packages hdvio needs. Idempotent: packages already present are skipped.
+# Usage: scripts/setup.sh [--with-torch]   (--with-torch adds libtorch for the trainer)
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev libceres-dev libsuitesparse-dev
+  libgoogle-glog-dev libgflags-dev libyaml-cpp-dev
+  libopencv-dev
+  libhdf5-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-numpy python3-matplotlib
+)
+for arg in "$@"; do
+  case "$arg" in
+    --with-torch) packages+=(libtorch-dev) ;;
+    *) echo "setup.sh: unknown argument '$arg' (expected --with-torch)" >&2; exit 2 ;;
+  esac
+done
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup.sh: all ${#packages[@]} packages present"
+  exit 0
+fi
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+echo "setup.sh: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

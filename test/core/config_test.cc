@@ -1,0 +1,82 @@
+#include "hdvio/core/config.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "hdvio/core/error.h"
+
+namespace hdvio {
+namespace {
+using ::testing::HasSubstr;
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, ReadsTypedValuesAndDefaults) {
+  auto cfg = ConfigReader::fromString("rate: 200\nname: circle\nwind:\n  speed: [1, 2, 3]\n", "x.yaml");
+  int rate = 0;
+  std::string name;
+  double missing = 7.5;
+  cfg.read("rate", &rate);
+  cfg.read("name", &name);
+  cfg.readOptional("missing", &missing);
+  auto wind = cfg.section("wind");
+  std::vector<double> speed;
+  wind.read("speed", &speed);
+  wind.finish();
+  cfg.finish();
+  EXPECT_EQ(rate, 200);
+  EXPECT_EQ(name, "circle");
+  EXPECT_DOUBLE_EQ(missing, 7.5);
+  EXPECT_EQ(speed, (std::vector<double>{1, 2, 3}));
+  const std::string eff = cfg.effectiveYaml();
+  EXPECT_THAT(eff, HasSubstr("missing: 7.5"));
+  EXPECT_THAT(eff, HasSubstr("rate: 200"));
+}
+
+TEST(Config, UnknownKeyNamesFileLineAndPath) {
+  auto cfg = ConfigReader::fromString("a: 1\nsub:\n  b: 2\n  typo: 3\n", "exp.yaml");
+  int a = 0, b = 0;
+  cfg.read("a", &a);
+  auto sub = cfg.section("sub");
+  sub.read("b", &b);
+  EXPECT_EQ(errorOf([&] { sub.finish(); }), "exp.yaml:4: key 'sub.typo': unknown key");
+}
+
+TEST(Config, WrongTypeAndRangeAndChoiceAreErrors) {
+  auto cfg = ConfigReader::fromString("n: 1.5\nflag: maybe\nx: 12\nmode: fast\n", "c.yaml");
+  int n = 0;
+  bool flag = false;
+  double x = 0;
+  std::string mode;
+  EXPECT_EQ(errorOf([&] { cfg.read("n", &n); }), "c.yaml:1: key 'n': expected an integer");
+  EXPECT_EQ(errorOf([&] { cfg.read("flag", &flag); }),
+            "c.yaml:2: key 'flag': expected a boolean (true/false)");
+  EXPECT_THAT(errorOf([&] { cfg.readInRange("x", &x, 0.0, 10.0, true); }),
+              HasSubstr("c.yaml:3: key 'x': value 12 out of range [0, 10]"));
+  EXPECT_THAT(errorOf([&] { cfg.readChoice("mode", &mode, {"vio", "hdvio"}); }),
+              HasSubstr("'fast' is not one of: vio, hdvio"));
+  EXPECT_THAT(errorOf([&] { cfg.read("absent", &x); }), HasSubstr("required key is missing"));
+}
+
+TEST(Config, ListsOfMapsAndParseErrors) {
+  auto cfg = ConfigReader::fromString("events:\n  - {t: 1.0}\n  - {t: 2.0, bad: 1}\n", "l.yaml");
+  auto events = cfg.list("events");
+  ASSERT_EQ(events.size(), 2u);
+  double t = 0;
+  events[1].read("t", &t);
+  EXPECT_EQ(errorOf([&] { events[1].finish(); }), "l.yaml:3: key 'events[1].bad': unknown key");
+  EXPECT_THAT(errorOf([] { ConfigReader::fromString("a: [1, 2\n", "p.yaml"); }),
+              HasSubstr("p.yaml:"));
+  EXPECT_THAT(errorOf([] { ConfigReader::fromFile("/nonexistent/x.yaml"); }),
+              HasSubstr("cannot open config file"));
+}
+
+}  // namespace
+}  // namespace hdvio
