@@ -183,6 +183,15 @@ void ConfigReader::readInRange(const std::string& key, int* value, int lo, int h
   }
 }
 
+void ConfigReader::readVector(const std::string& key, std::vector<double>* value,
+                              std::size_t size, bool required) const {
+  if (required) read(key, value); else readOptional(key, value);
+  if (value->size() != size)
+    fail(node_[key].IsDefined() ? node_[key] : node_, key,
+         "expected a list of " + std::to_string(size) + " numbers, got " +
+             std::to_string(value->size()));
+}
+
 void ConfigReader::readChoice(const std::string& key, std::string* value,
                               const std::vector<std::string>& choices, bool required) const {
   if (required) read(key, value); else readOptional(key, value);

@@ -25,6 +25,9 @@ class ConfigReader {
   void readInRange(const std::string& key, double* value, double lo, double hi,
                    bool required = false) const;
   void readInRange(const std::string& key, int* value, int lo, int hi, bool required = false) const;
+  // A list of exactly `size` numbers.
+  void readVector(const std::string& key, std::vector<double>* value, std::size_t size,
+                  bool required = false) const;
   void readChoice(const std::string& key, std::string* value,
                   const std::vector<std::string>& choices, bool required = false) const;
 

@@ -1,0 +1,33 @@
+#pragma once
+// Turning the tool's arguments into loaded inputs. An estimate is given as
+//   name=path[:velocity=file][:force=file]
+// where path is a trajectory file or a result folder holding stamped_traj_estimate.txt and,
+// optionally, velocity/force CSVs under their usual names. Several estimates are separated by
+// commas (gflags cannot repeat a flag).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hdvio/eval/evaluation.h"
+#include "hdvio/eval/trajectory_io.h"
+
+namespace hdvio::eval {
+
+struct EstimateSpec {
+  std::string name;
+  std::string path;
+  std::optional<std::string> velocity_path;
+  std::optional<std::string> force_path;
+};
+
+// Throws InputError for empty lists, bad names (allowed: letters, digits, _ - .) and duplicates.
+std::vector<EstimateSpec> parseEstimateList(const std::string& list);
+
+Estimate loadEstimate(const EstimateSpec& spec, TrajectoryFormat format);
+
+// Ground truth from a file or an ASL folder; force ground truth from force_path when given,
+// else from the ASL folder's force_groundtruth0 when it has one.
+GroundTruth loadGroundTruth(const std::string& path, TrajectoryFormat format,
+                            const std::optional<std::string>& force_path);
+
+}  // namespace hdvio::eval

@@ -1,0 +1,233 @@
+#include "hdvio/eval/report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hdvio/core/error.h"
+
+namespace hdvio::eval {
+namespace fs = std::filesystem;
+namespace {
+
+std::string num(double x, int precision = 4) {
+  if (!std::isfinite(x)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", precision, x);
+  return buf;
+}
+
+// Full precision for machines; NaN (no samples) becomes null.
+std::string jnum(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.17g", x);
+  return buf;
+}
+
+std::string jstr(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof(buf), "\\u%04x", c);
+      out += buf;
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string jstats(const ErrorStatistics& s) {
+  std::ostringstream o;
+  o << "{\"count\": " << s.count << ", \"rmse\": " << jnum(s.rmse) << ", \"mean\": " << jnum(s.mean)
+    << ", \"median\": " << jnum(s.median) << ", \"std\": " << jnum(s.std)
+    << ", \"min\": " << jnum(s.min) << ", \"max\": " << jnum(s.max) << "}";
+  return o.str();
+}
+
+std::string jvector(const VectorErrors& e) {
+  return "{\"total\": " + jstats(e.total) + ", \"xy\": " + jstats(e.xy) + ", \"z\": " + jstats(e.z) + "}";
+}
+
+std::string rpeLabel(const EvoRpeOptions& o) {
+  std::ostringstream s;
+  s << o.delta << (o.unit == DeltaUnit::kMeters ? " m" : " frames")
+    << (o.all_pairs ? ", all pairs" : "");
+  return s.str();
+}
+
+std::string csvPath(const std::string& dir, std::size_t index, const std::string& what) {
+  return (fs::path(dir) / ("est" + std::to_string(index) + "_" + what + ".csv")).string();
+}
+
+}  // namespace
+
+std::string formatTable(const EvaluationReport& report) {
+  const EvaluationOptions& o = report.options;
+  std::ostringstream t;
+  t << "Ground truth: " << report.ground_truth_source << "  \n"
+    << "Alignment: " << alignmentName(o.alignment)
+    << (o.align_first_n > 0 ? " (first " + std::to_string(o.align_first_n) + " poses)" : " (all poses)")
+    << ", association: " << associationName(o.association.mode);
+  if (o.association.mode != AssociationMode::kIndex)
+    t << " (max diff " << o.association.max_time_diff_s << " s, offset " << o.association.time_offset_s << " s)";
+  t << "\n\n### Absolute trajectory error\n\n"
+    << "| estimate | matched/poses | ATE rmse [m] | mean [m] | median [m] | max [m] | min [m] | rot rmse [deg] | RPE rmse [m] (evo, "
+    << rpeLabel(o.evo_rpe_options) << ") | RPE rot rmse [deg] | velocity rmse [m/s] |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : report.results) {
+    t << "| " << r.name << " | " << r.num_matched << "/" << r.num_poses << " | "
+      << num(r.ate_translation.rmse) << " | " << num(r.ate_translation.mean) << " | "
+      << num(r.ate_translation.median) << " | " << num(r.ate_translation.max) << " | "
+      << num(r.ate_translation.min) << " | " << num(r.ate_rotation_deg.rmse, 3) << " | "
+      << (r.evo_rpe ? num(r.evo_rpe_translation.rmse) : "-") << " | "
+      << (r.evo_rpe ? num(r.evo_rpe_rotation_deg.rmse, 3) : "-") << " | "
+      << (r.velocity ? num(r.velocity->total.rmse) : "-") << " |\n";
+  }
+  if (!report.distances.empty()) {
+    t << "\n### Relative error (rpg toolbox sub-trajectories)\n\n"
+      << "| estimate | length [m] | samples | trans median [m] | trans mean [m] | trans mean [%] | rot mean [deg] | yaw mean [deg] |\n"
+      << "|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : report.results)
+      for (const auto& s : r.relative)
+        t << "| " << r.name << " | " << num(s.distance, 2) << " | " << s.translation.count << " | "
+          << num(s.translation.median) << " | " << num(s.translation.mean) << " | "
+          << num(s.translation_percent.mean, 3) << " | " << num(s.rotation_deg.mean, 3) << " | "
+          << num(s.yaw_deg.mean, 3) << " |\n";
+  }
+  bool any_force = false;
+  for (const auto& r : report.results) any_force = any_force || r.force.has_value();
+  if (any_force) {
+    t << "\n### Force (mass-normalized, IMU frame) RMSE [m/s^2]\n\n"
+      << "| estimate | samples | external total | external xy | external z | total-force total | total-force xy | total-force z |\n"
+      << "|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : report.results) {
+      if (!r.force) continue;
+      const ForceErrors& f = *r.force;
+      t << "| " << r.name << " | " << f.external.total.count << " | " << num(f.external.total.rmse)
+        << " | " << num(f.external.xy.rmse) << " | " << num(f.external.z.rmse) << " | "
+        << num(f.total.total.rmse) << " | " << num(f.total.xy.rmse) << " | " << num(f.total.z.rmse) << " |\n";
+    }
+  }
+  for (const auto& r : report.results)
+    for (const auto& note : r.notes) t << "\nnote (" << r.name << "): " << note;
+  t << "\n";
+  return t.str();
+}
+
+std::string formatJson(const EvaluationReport& report) {
+  const EvaluationOptions& o = report.options;
+  std::ostringstream j;
+  j << "{\n  \"ground_truth\": " << jstr(report.ground_truth_source) << ",\n"
+    << "  \"options\": {\"alignment\": " << jstr(alignmentName(o.alignment))
+    << ", \"align_first_n\": " << o.align_first_n
+    << ", \"association\": " << jstr(associationName(o.association.mode))
+    << ", \"max_time_diff_s\": " << jnum(o.association.max_time_diff_s)
+    << ", \"time_offset_s\": " << jnum(o.association.time_offset_s)
+    << ", \"evo_rpe_delta\": " << jnum(o.evo_rpe_options.delta)
+    << ", \"evo_rpe_unit\": " << jstr(o.evo_rpe_options.unit == DeltaUnit::kMeters ? "m" : "f")
+    << ", \"evo_rpe_all_pairs\": " << (o.evo_rpe_options.all_pairs ? "true" : "false") << "},\n"
+    << "  \"estimates\": [";
+  for (std::size_t i = 0; i < report.results.size(); ++i) {
+    const EstimateResult& r = report.results[i];
+    j << (i ? "," : "") << "\n    {\"name\": " << jstr(r.name) << ", \"index\": " << i
+      << ", \"source\": " << jstr(r.source) << ", \"poses\": " << r.num_poses
+      << ", \"matched\": " << r.num_matched << ",\n     \"alignment\": {\"scale\": " << jnum(r.alignment.s)
+      << ", \"rotation\": [";
+    for (int a = 0; a < 9; ++a) j << (a ? ", " : "") << jnum(r.alignment.R(a / 3, a % 3));
+    j << "], \"translation\": [" << jnum(r.alignment.t.x()) << ", " << jnum(r.alignment.t.y()) << ", "
+      << jnum(r.alignment.t.z()) << "]},\n"
+      << "     \"ate_translation_m\": " << jstats(r.ate_translation) << ",\n"
+      << "     \"ate_rotation_deg\": " << jstats(r.ate_rotation_deg) << ",\n"
+      << "     \"evo_rpe_translation_m\": " << (r.evo_rpe ? jstats(r.evo_rpe_translation) : "null") << ",\n"
+      << "     \"evo_rpe_rotation_deg\": " << (r.evo_rpe ? jstats(r.evo_rpe_rotation_deg) : "null") << ",\n"
+      << "     \"relative_errors\": [";
+    for (std::size_t k = 0; k < r.relative.size(); ++k) {
+      const RelativeErrorSummary& s = r.relative[k];
+      j << (k ? "," : "") << "\n       {\"distance_m\": " << jnum(s.distance)
+        << ", \"translation_m\": " << jstats(s.translation)
+        << ", \"translation_percent\": " << jstats(s.translation_percent)
+        << ", \"rotation_deg\": " << jstats(s.rotation_deg) << ", \"yaw_deg\": " << jstats(s.yaw_deg) << "}";
+    }
+    j << "],\n     \"velocity_m_s\": " << (r.velocity ? jvector(*r.velocity) : "null") << ",\n"
+      << "     \"force_external_m_s2\": " << (r.force ? jvector(r.force->external) : "null") << ",\n"
+      << "     \"force_total_m_s2\": " << (r.force ? jvector(r.force->total) : "null") << ",\n"
+      << "     \"notes\": [";
+    for (std::size_t k = 0; k < r.notes.size(); ++k) j << (k ? ", " : "") << jstr(r.notes[k]);
+    j << "]}";
+  }
+  j << "\n  ]\n}\n";
+  return j.str();
+}
+
+void writeFileAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw InputError(path, 0, "cannot write file");
+    out << text;
+    if (!out) throw InputError(path, 0, "write failed");
+  }
+  fs::rename(tmp, path);
+}
+
+void writeReport(const EvaluationReport& report, const GroundTruth& gt, const std::string& out_dir) {
+  std::error_code ec;
+  const fs::path plot_dir = fs::path(out_dir) / "plot_data";
+  fs::create_directories(plot_dir, ec);
+  if (ec) throw InputError(out_dir, 0, "cannot create output folder: " + ec.message());
+
+  std::ostringstream g;
+  g << "# t_s,x,y,z\n";
+  const Trajectory& gtt = gt.trajectory;
+  for (std::size_t i = 0; i < gtt.size(); ++i)
+    g << jnum(secondsBetween(gtt.t.front(), gtt.t[i])) << "," << jnum(gtt.p[i].x()) << ","
+      << jnum(gtt.p[i].y()) << "," << jnum(gtt.p[i].z()) << "\n";
+  writeFileAtomically((plot_dir / "groundtruth.csv").string(), g.str());
+
+  const Timestamp t0 = gtt.t.front();
+  for (std::size_t k = 0; k < report.results.size(); ++k) {
+    const EstimateResult& r = report.results[k];
+    std::ostringstream a;
+    a << "# t_s,x,y,z,gt_x,gt_y,gt_z,ate_m\n";
+    for (std::size_t i = 0; i < r.est_aligned.size(); ++i) {
+      const Vec3& p = r.est_aligned.p[i];
+      const Vec3& q = r.ref_matched.p[i];
+      a << jnum(secondsBetween(t0, r.ref_matched.t[i])) << "," << jnum(p.x()) << "," << jnum(p.y())
+        << "," << jnum(p.z()) << "," << jnum(q.x()) << "," << jnum(q.y()) << "," << jnum(q.z()) << ","
+        << jnum(r.ate.translation[i]) << "\n";
+    }
+    writeFileAtomically(csvPath(plot_dir.string(), k, "aligned"), a.str());
+
+    std::ostringstream rel;
+    rel << "# distance_m,translation_m,translation_percent,rotation_deg\n";
+    for (const auto& s : r.relative)
+      for (std::size_t i = 0; i < s.errors.translation.size(); ++i)
+        rel << jnum(s.distance) << "," << jnum(s.errors.translation[i]) << ","
+            << jnum(s.errors.translation_percent[i]) << "," << jnum(s.errors.rotation_deg[i]) << "\n";
+    writeFileAtomically(csvPath(plot_dir.string(), k, "relative"), rel.str());
+
+    if (r.force) {
+      std::ostringstream f;
+      f << "# t_s,est_x,est_y,est_z,ext_x,ext_y,ext_z,total_x,total_y,total_z\n";
+      const VectorErrors& e = r.force->external;
+      const VectorErrors& tot = r.force->total;
+      for (std::size_t i = 0; i < e.t.size(); ++i)
+        f << jnum(secondsBetween(t0, e.t[i])) << "," << jnum(e.estimate[i].x()) << ","
+          << jnum(e.estimate[i].y()) << "," << jnum(e.estimate[i].z()) << "," << jnum(e.truth[i].x())
+          << "," << jnum(e.truth[i].y()) << "," << jnum(e.truth[i].z()) << ","
+          << jnum(tot.truth[i].x()) << "," << jnum(tot.truth[i].y()) << "," << jnum(tot.truth[i].z()) << "\n";
+      writeFileAtomically(csvPath(plot_dir.string(), k, "force"), f.str());
+    }
+  }
+  writeFileAtomically((fs::path(out_dir) / "table.md").string(), formatTable(report));
+  // Last: its presence marks a complete result.
+  writeFileAtomically((fs::path(out_dir) / "metrics.json").string(), formatJson(report));
+}
+
+}  // namespace hdvio::eval

@@ -1,0 +1,35 @@
+#include "hdvio/eval/trajectory.h"
+
+namespace hdvio::eval {
+
+void Trajectory::reserve(std::size_t n) {
+  t.reserve(n);
+  p.reserve(n);
+  R.reserve(n);
+}
+
+void Trajectory::push(Timestamp time, const Vec3& position, const Mat3& rotation) {
+  t.push_back(time);
+  p.push_back(position);
+  R.push_back(rotation);
+}
+
+Trajectory Trajectory::subset(const std::vector<std::size_t>& ids) const {
+  Trajectory out;
+  out.source = source;
+  out.has_timestamps = has_timestamps;
+  out.reserve(ids.size());
+  for (std::size_t i : ids) {
+    out.push(t[i], p[i], R[i]);
+    if (hasVelocity()) out.v.push_back(v[i]);
+  }
+  return out;
+}
+
+double Trajectory::pathLength() const {
+  double length = 0.0;
+  for (std::size_t i = 1; i < p.size(); ++i) length += (p[i] - p[i - 1]).norm();
+  return length;
+}
+
+}  // namespace hdvio::eval

@@ -1,0 +1,96 @@
+#pragma once
+// The visual-inertial(-dynamics) backend: turns frames of landmark observations plus IMU and
+// thrust buffers into states, factors and initial values for the sliding-window smoother, in
+// one of four modes (vio, vimo, vid, hdvio). The window holds the K most recent states and up
+// to L older keyframes; leaving states are Schur-complemented into a prior.
+#include <deque>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "hdvio/backend/nav_state.h"
+#include "hdvio/backend/sliding_window_smoother.h"
+#include "hdvio/backend/vio_options.h"
+#include "hdvio/factors/camera_model.h"
+#include "hdvio/factors/measurement_steps.h"
+
+namespace hdvio {
+
+struct FeatureObservation {
+  int landmark_id = 0;
+  Vec2 uv = Vec2::Zero();  // distorted pixel coordinates
+};
+
+struct FrameObservations {
+  Timestamp t = 0;
+  std::vector<FeatureObservation> features;
+};
+
+struct FrameResult {
+  bool processed = false;     // false: not enough IMU data yet for this frame
+  bool keyframe = false;
+  int observations_used = 0;  // reprojection factors added for this frame
+  int landmarks_in_window = 0;
+  int outliers_removed = 0;
+  int solver_iterations = 0;
+  double solve_time_s = 0.0;
+  NavState state;
+};
+
+class VioBackend {
+ public:
+  // residual_force: the learned residual force provider (hdvio mode); null means zero.
+  VioBackend(const VioBackendOptions& options, const CameraModel& camera, const Pose& T_BC,
+             ResidualForceFn residual_force = nullptr);
+
+  void addImu(const ImuSample& sample);
+  void addThrust(const ThrustSample& sample);
+
+  // Starts the window at state.t (a frame time) with priors around state.
+  void initialize(const NavState& state);
+  bool initialized() const { return !states_.empty(); }
+
+  // Requires IMU (and thrust for dynamics modes) up to frame.t.
+  FrameResult addFrame(const FrameObservations& frame);
+
+  NavState latestState() const;
+  std::vector<NavState> windowStates() const;
+  const SlidingWindowSmoother& smoother() const { return smoother_; }
+
+ private:
+  struct StateSlot {
+    std::uint64_t index;
+    Timestamp t;
+    bool keyframe;
+  };
+  struct Track {
+    std::map<std::uint64_t, Vec2> obs;  // state index -> pixel
+    std::map<std::uint64_t, SlidingWindowSmoother::FactorId> factors;
+    bool in_graph = false;
+  };
+
+  NavState stateAt(std::uint64_t index, Timestamp t) const;
+  void addInertialFactors(const StateSlot& from, std::uint64_t to, Timestamp t_to,
+                          FactorGraph* graph, Values* values) const;
+  bool isKeyframe(std::uint64_t index) const;
+  void addVisualFactors(std::uint64_t index, const FrameObservations& frame, FrameResult* result);
+  bool tryTriangulate(int id, Track* track);
+  int rejectOutliers();
+  void maintainWindow();
+  void marginalizeState(std::uint64_t index);
+  Pose cameraPose(std::uint64_t index) const;
+
+  VioBackendOptions options_;
+  CameraModel camera_;
+  Pose T_BC_;
+  ResidualForceFn residual_force_;
+  SlidingWindowSmoother smoother_;
+  std::vector<ImuSample> imu_;
+  std::vector<ThrustSample> thrust_;
+  std::deque<StateSlot> states_;
+  std::map<int, Track> tracks_;
+  std::uint64_t next_index_ = 0;
+  std::optional<std::uint64_t> last_keyframe_;
+};
+
+}  // namespace hdvio

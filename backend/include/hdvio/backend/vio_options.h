@@ -1,0 +1,59 @@
+#pragma once
+// Options of the visual-inertial(-dynamics) backends, loaded from the `backend` section of an
+// experiment YAML (strict: unknown keys are errors).
+#include <string>
+
+#include "hdvio/core/config.h"
+#include "hdvio/factors/dynamics_factor.h"
+#include "hdvio/factors/imu_preintegration.h"
+#include "hdvio/factors/reprojection_factor.h"
+#include "hdvio/factors/thrust_preintegration.h"
+
+namespace hdvio {
+
+// vio: reprojection + IMU. vimo: + point-mass dynamics with a zero-mean external force.
+// vid: + external-force mean prior (VID-Fusion). hdvio: + learned residual force.
+enum class VioMethod { kVio, kVimo, kVid, kHdvio };
+VioMethod parseVioMethod(const std::string& name);  // throws std::invalid_argument
+std::string toString(VioMethod method);
+inline bool usesDynamics(VioMethod m) { return m != VioMethod::kVio; }
+
+struct VioBackendOptions {
+  VioMethod method = VioMethod::kVio;
+  int num_keyframes = 10;    // L
+  int num_recent = 5;        // K most recent states
+  // A frame becomes a keyframe when the median parallax to the last keyframe exceeds this
+  // (pixels) or when it observes too few of the last keyframe's landmarks.
+  double keyframe_parallax_px = 12.0;
+  double keyframe_min_tracked_ratio = 0.6;
+
+  double pixel_sigma = 1.0;
+  RobustLoss robust_loss = RobustLoss::kHuber;
+  double robust_width_px = 2.0;
+  double outlier_threshold_px = 6.0;  // reprojection error above which an observation is dropped
+  double min_triangulation_angle_deg = 1.0;
+  int min_observations = 2;
+
+  int max_iterations = 8;
+  double max_solver_time_s = 1e3;  // wall-clock budget; large by default so runs are deterministic
+
+  ImuNoiseParams imu;
+  ThrustNoiseParams thrust;
+  DynamicsFactorParams dynamics;  // variant follows method
+
+  // Initial state uncertainty (gauge and biases).
+  double init_position_sigma = 1e-3;
+  double init_yaw_sigma = 1e-3;
+  double init_tilt_sigma = 0.02;
+  double init_velocity_sigma = 0.1;
+  double init_gyro_bias_sigma = 0.01;
+  double init_accel_bias_sigma = 0.1;
+  double init_force_sigma = 2.0;
+};
+
+// Reads the keys of a `backend:` section; values not given keep their defaults above.
+VioBackendOptions loadVioBackendOptions(const ConfigReader& section, VioMethod method);
+// Defaults for a method (no config).
+VioBackendOptions defaultVioBackendOptions(VioMethod method);
+
+}  // namespace hdvio

@@ -1,0 +1,43 @@
+#pragma once
+// Runs a visual-inertial backend over a whole sequence, feeding sensor data in time order.
+// Without a frontend, the frames are the simulator's ground-truth landmark tracks, optionally
+// with added pixel noise.
+#include <cstdint>
+#include <vector>
+
+#include "hdvio/backend/vio_backend.h"
+#include "hdvio/core/sequence.h"
+
+namespace hdvio {
+
+struct VioRunOptions {
+  bool init_from_groundtruth = false;  // else: static (hover) initialization from the IMU
+  double static_init_window_s = 0.5;
+  double guess_velocity_sigma = 1.0;  // prior sigmas of the guessed first state (m/s, rad)
+  double guess_tilt_sigma = 0.1;
+  double pixel_noise_sigma = 0.0;      // added to simulated tracks
+  std::uint32_t seed = 1;
+};
+
+struct VioRunOutput {
+  std::vector<NavState> states;       // one per processed frame, latest estimate at that time
+  std::vector<FrameResult> frames;
+  double backend_time_s = 0.0;        // wall time spent in the backend
+};
+
+// Gravity direction (roll, pitch) from the mean accelerometer, yaw 0, zero velocity, gyro bias
+// from the mean gyro over the window ending at t. Valid for a static or hovering start.
+// Throws InputError if the window has no IMU samples.
+NavState staticInitialization(const std::vector<ImuSample>& imu, Timestamp t, double window_s);
+
+// Ground-truth state at t (linear / slerp interpolation); throws InputError when t is outside.
+NavState groundTruthState(const Sequence& seq, Timestamp t);
+
+// Frames of landmark observations grouped by timestamp (simulated sequences).
+std::vector<FrameObservations> framesFromTracks(const Sequence& seq, double pixel_noise_sigma,
+                                                std::uint32_t seed);
+
+VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& options,
+                            const VioRunOptions& run, ResidualForceFn residual_force = nullptr);
+
+}  // namespace hdvio

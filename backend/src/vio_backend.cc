@@ -1,0 +1,318 @@
+#include "hdvio/backend/vio_backend.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hdvio/backend/triangulation.h"
+#include "hdvio/factors/dynamics_factor.h"
+#include "hdvio/factors/imu_factor.h"
+#include "hdvio/factors/prior_factors.h"
+#include "hdvio/factors/reprojection_factor.h"
+
+namespace hdvio {
+using symbols::B;
+using symbols::F;
+using symbols::L;
+using symbols::V;
+using symbols::X;
+
+namespace {
+SmootherOptions smootherOptions(const VioBackendOptions& o) {
+  SmootherOptions s;
+  s.optimizer.max_iterations = o.max_iterations;
+  s.optimizer.max_time_s = o.max_solver_time_s;
+  s.optimizer.linear_solver = ceres::SPARSE_NORMAL_CHOLESKY;
+  return s;
+}
+}  // namespace
+
+VioBackend::VioBackend(const VioBackendOptions& options, const CameraModel& camera,
+                       const Pose& T_BC, ResidualForceFn residual_force)
+    : options_(options),
+      camera_(camera),
+      T_BC_(T_BC),
+      residual_force_(std::move(residual_force)),
+      smoother_(smootherOptions(options)) {}
+
+void VioBackend::addImu(const ImuSample& s) {
+  if (imu_.empty() || s.t > imu_.back().t) imu_.push_back(s);
+}
+
+void VioBackend::addThrust(const ThrustSample& s) {
+  if (thrust_.empty() || s.t > thrust_.back().t) thrust_.push_back(s);
+}
+
+void VioBackend::initialize(const NavState& s) {
+  const std::uint64_t k = next_index_++;
+  Values values;
+  FactorGraph priors;
+  values.insertPose(X(k), s.T_WB);
+  values.insertVector(V(k), s.v_W);
+  values.insertVector(B(k), s.bias);
+  // Gauge: position and yaw are fixed by the prior; tilt is observable through gravity.
+  // The rotation tangent is in the body frame, so rotate the world-frame covariance into it.
+  const Mat3 R = s.T_WB.R();
+  const Vec3 rot_var(options_.init_tilt_sigma * options_.init_tilt_sigma,
+                     options_.init_tilt_sigma * options_.init_tilt_sigma,
+                     options_.init_yaw_sigma * options_.init_yaw_sigma);
+  Eigen::MatrixXd pose_cov = Eigen::MatrixXd::Zero(6, 6);
+  pose_cov.topLeftCorner<3, 3>() =
+      Mat3::Identity() * options_.init_position_sigma * options_.init_position_sigma;
+  pose_cov.bottomRightCorner<3, 3>() = R.transpose() * rot_var.asDiagonal() * R;
+  priors.add(std::make_shared<PosePrior>(X(k), s.T_WB, NoiseModel::covariance(pose_cov)));
+  priors.add(std::make_shared<VelocityPrior>(
+      V(k), s.v_W, NoiseModel::isotropic(3, options_.init_velocity_sigma)));
+  Eigen::VectorXd bias_sigmas(6);
+  bias_sigmas << Vec3::Constant(options_.init_gyro_bias_sigma),
+      Vec3::Constant(options_.init_accel_bias_sigma);
+  priors.add(std::make_shared<BiasPrior>(B(k), s.bias, NoiseModel::diagonal(bias_sigmas)));
+  std::map<Key, Timestamp> times{{X(k), s.t}, {V(k), s.t}, {B(k), s.t}};
+  if (usesDynamics(options_.method)) {
+    values.insertVector(F(k), s.f_ext_W);
+    priors.add(std::make_shared<ForcePrior>(F(k), s.f_ext_W,
+                                            NoiseModel::isotropic(3, options_.init_force_sigma)));
+    times[F(k)] = s.t;
+  }
+  smoother_.update(priors, values, times, /*optimize=*/false);
+  states_.push_back({k, s.t, true});
+  last_keyframe_ = k;
+}
+
+NavState VioBackend::stateAt(std::uint64_t index, Timestamp t) const {
+  const Values& est = smoother_.estimate();
+  NavState s;
+  s.t = t;
+  s.T_WB = est.pose(X(index));
+  s.v_W = est.vec3(V(index));
+  s.bias = est.vector(B(index));
+  if (est.exists(F(index))) s.f_ext_W = est.vec3(F(index));
+  return s;
+}
+
+NavState VioBackend::latestState() const {
+  NavState s = stateAt(states_.back().index, states_.back().t);
+  // vimo / vid hold f_ext constant over [i, j] on F_i, so the newest F is not constrained yet:
+  // report the force of the interval that ends at the newest state.
+  if ((options_.method == VioMethod::kVimo || options_.method == VioMethod::kVid) &&
+      states_.size() >= 2)
+    s.f_ext_W = smoother_.estimate().vec3(F(states_[states_.size() - 2].index));
+  return s;
+}
+
+std::vector<NavState> VioBackend::windowStates() const {
+  std::vector<NavState> out;
+  for (const auto& slot : states_) out.push_back(stateAt(slot.index, slot.t));
+  return out;
+}
+
+Pose VioBackend::cameraPose(std::uint64_t index) const {
+  return smoother_.estimate().pose(X(index)) * T_BC_;
+}
+
+void VioBackend::addInertialFactors(const StateSlot& from, std::uint64_t k, Timestamp t,
+                                    FactorGraph* graph, Values* values) const {
+  const std::uint64_t i = from.index;
+  const NavState s = stateAt(i, from.t);
+  auto pim = std::make_shared<const PreintegratedImu>(
+      PreintegratedImu::integrate(imu_, from.t, t, s.bias, options_.imu));
+  const double dt = pim->dt();
+  const Vec3 g = options_.imu.gravity;
+  const Mat3 Ri = s.T_WB.R();
+  // Predict the new state with the IMU (and the current external-force estimate is ignored:
+  // the accelerometer already measures it).
+  const Pose T_j(Quat(Ri * pim->deltaR()), s.T_WB.p + s.v_W * dt + 0.5 * g * dt * dt +
+                                              Ri * pim->deltaP());
+  const Vec3 v_j = s.v_W + g * dt + Ri * pim->deltaV();
+  values->insertPose(X(k), T_j);
+  values->insertVector(V(k), v_j);
+  values->insertVector(B(k), s.bias);
+  graph->add(std::make_shared<ImuFactor>(X(i), V(i), B(i), X(k), V(k), B(k), pim));
+  if (!usesDynamics(options_.method)) return;
+  const ResidualForceFn force =
+      options_.method == VioMethod::kHdvio ? residual_force_ : ResidualForceFn();
+  auto pit = std::make_shared<const PreintegratedThrust>(PreintegratedThrust::integrate(
+      imu_, thrust_, from.t, t, s.bias, options_.thrust, force));
+  values->insertVector(F(k), s.f_ext_W);
+  graph->add(std::make_shared<DynamicsFactor>(X(i), V(i), F(i), X(k), V(k), F(k), B(i), pit,
+                                              options_.dynamics));
+}
+
+FrameResult VioBackend::addFrame(const FrameObservations& frame) {
+  FrameResult result;
+  if (!initialized() || imu_.empty() || imu_.back().t < frame.t || frame.t <= states_.back().t)
+    return result;
+  if (usesDynamics(options_.method) && (thrust_.empty() || thrust_.back().t < frame.t))
+    return result;
+  const std::uint64_t k = next_index_++;
+  FactorGraph inertial;
+  Values values;
+  addInertialFactors(states_.back(), k, frame.t, &inertial, &values);
+  std::map<Key, Timestamp> times{{X(k), frame.t}, {V(k), frame.t}, {B(k), frame.t}};
+  if (values.exists(F(k))) times[F(k)] = frame.t;
+  smoother_.update(inertial, values, times, /*optimize=*/false);
+  states_.push_back({k, frame.t, false});
+
+  addVisualFactors(k, frame, &result);
+  states_.back().keyframe = isKeyframe(k);
+  if (states_.back().keyframe) last_keyframe_ = k;
+
+  auto solved = smoother_.optimize();
+  result.outliers_removed = rejectOutliers();
+  if (result.outliers_removed > 0) solved = smoother_.optimize();
+  result.solver_iterations = solved.iterations;
+  result.solve_time_s = solved.solve_time_s;
+  maintainWindow();
+
+  result.processed = true;
+  result.keyframe = states_.back().keyframe;
+  for (const auto& [id, track] : tracks_) result.landmarks_in_window += track.in_graph ? 1 : 0;
+  result.state = latestState();
+  return result;
+}
+
+void VioBackend::addVisualFactors(std::uint64_t k, const FrameObservations& frame,
+                                  FrameResult* result) {
+  const NoiseModelPtr noise =
+      pixelNoise(options_.pixel_sigma, options_.robust_loss, options_.robust_width_px);
+  FactorGraph graph;
+  std::vector<int> ids;
+  std::vector<int> pending;
+  for (const auto& f : frame.features) {
+    Track& track = tracks_[f.landmark_id];
+    track.obs[k] = f.uv;
+    if (track.in_graph) {
+      graph.add(std::make_shared<ReprojectionFactor>(X(k), L(f.landmark_id), f.uv, camera_, T_BC_,
+                                                     noise));
+      ids.push_back(f.landmark_id);
+    } else {
+      pending.push_back(f.landmark_id);
+    }
+  }
+  const auto added = smoother_.update(graph, Values(), {}, /*optimize=*/false);
+  for (std::size_t n = 0; n < ids.size(); ++n) tracks_[ids[n]].factors[k] = added.new_factor_ids[n];
+  result->observations_used = static_cast<int>(ids.size());
+
+  for (int id : pending) {
+    Track& track = tracks_[id];
+    if (!tryTriangulate(id, &track)) continue;
+    result->observations_used += 1;
+  }
+  (void)noise;
+}
+
+bool VioBackend::tryTriangulate(int id, Track* track) {
+  if (static_cast<int>(track->obs.size()) < options_.min_observations) return false;
+  std::vector<Pose> poses;
+  std::vector<Vec3> rays;
+  for (const auto& [index, uv] : track->obs) {
+    poses.push_back(cameraPose(index));
+    rays.push_back(camera_.unproject(uv));
+  }
+  const TriangulationResult tri = triangulate(poses, rays);
+  if (!tri.valid || tri.max_ray_angle_rad < options_.min_triangulation_angle_deg * M_PI / 180.0)
+    return false;
+  const NoiseModelPtr noise =
+      pixelNoise(options_.pixel_sigma, options_.robust_loss, options_.robust_width_px);
+  FactorGraph graph;
+  std::vector<std::uint64_t> order;
+  for (const auto& [index, uv] : track->obs) {
+    graph.add(std::make_shared<ReprojectionFactor>(X(index), L(id), uv, camera_, T_BC_, noise));
+    order.push_back(index);
+  }
+  Values values;
+  values.insertVector(L(id), tri.p_W);
+  const auto added = smoother_.update(graph, values, {}, /*optimize=*/false);
+  for (std::size_t n = 0; n < order.size(); ++n) track->factors[order[n]] = added.new_factor_ids[n];
+  track->in_graph = true;
+  return true;
+}
+
+bool VioBackend::isKeyframe(std::uint64_t k) const {
+  if (!last_keyframe_) return true;
+  std::vector<double> parallax;
+  int seen_by_keyframe = 0;
+  for (const auto& [id, track] : tracks_) {
+    const auto kf = track.obs.find(*last_keyframe_);
+    if (kf == track.obs.end()) continue;
+    ++seen_by_keyframe;
+    const auto now = track.obs.find(k);
+    if (now != track.obs.end()) parallax.push_back((now->second - kf->second).norm());
+  }
+  if (parallax.size() < 8) return true;
+  if (parallax.size() < options_.keyframe_min_tracked_ratio * seen_by_keyframe) return true;
+  std::nth_element(parallax.begin(), parallax.begin() + parallax.size() / 2, parallax.end());
+  return parallax[parallax.size() / 2] > options_.keyframe_parallax_px;
+}
+
+int VioBackend::rejectOutliers() {
+  int removed = 0;
+  std::set<Key> dead_landmarks;
+  for (auto& [id, track] : tracks_) {
+    if (!track.in_graph) continue;
+    std::vector<SlidingWindowSmoother::FactorId> drop;
+    for (auto it = track.factors.begin(); it != track.factors.end();) {
+      Eigen::VectorXd r;
+      const bool ok = smoother_.factor(it->second)->whitenedError(smoother_.estimate(), &r);
+      if (!ok || r.norm() * options_.pixel_sigma > options_.outlier_threshold_px) {
+        drop.push_back(it->second);
+        track.obs.erase(it->first);
+        it = track.factors.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    removed += static_cast<int>(drop.size());
+    smoother_.removeFactors(drop);
+    if (static_cast<int>(track.factors.size()) < options_.min_observations) {
+      dead_landmarks.insert(L(id));
+      track.factors.clear();
+      track.in_graph = false;
+    }
+  }
+  if (!dead_landmarks.empty()) smoother_.removeVariables(dead_landmarks);
+  return removed;
+}
+
+void VioBackend::maintainWindow() {
+  const std::size_t recent = static_cast<std::size_t>(options_.num_recent);
+  // States older than the K most recent stay only if they are keyframes.
+  for (std::size_t n = 0; n + recent < states_.size();) {
+    if (!states_[n].keyframe) {
+      marginalizeState(states_[n].index);
+    } else {
+      ++n;
+    }
+  }
+  auto old_keyframes = [&] {
+    return states_.size() > recent ? static_cast<int>(states_.size() - recent) : 0;
+  };
+  while (old_keyframes() > options_.num_keyframes) marginalizeState(states_.front().index);
+}
+
+void VioBackend::marginalizeState(std::uint64_t index) {
+  std::set<Key> dead_landmarks;
+  for (auto it = tracks_.begin(); it != tracks_.end();) {
+    Track& track = it->second;
+    track.obs.erase(index);
+    const auto f = track.factors.find(index);
+    if (f != track.factors.end()) {
+      smoother_.removeFactors({f->second});
+      track.factors.erase(f);
+    }
+    if (track.in_graph && static_cast<int>(track.factors.size()) < options_.min_observations) {
+      dead_landmarks.insert(L(it->first));
+      track.factors.clear();
+      track.in_graph = false;
+    }
+    it = (track.obs.empty() && !track.in_graph) ? tracks_.erase(it) : std::next(it);
+  }
+  if (!dead_landmarks.empty()) smoother_.removeVariables(dead_landmarks);
+  std::set<Key> keys{X(index), V(index), B(index)};
+  if (smoother_.estimate().exists(F(index))) keys.insert(F(index));
+  smoother_.marginalize(keys);
+  states_.erase(std::find_if(states_.begin(), states_.end(),
+                             [&](const StateSlot& s) { return s.index == index; }));
+  if (last_keyframe_ == index) last_keyframe_.reset();
+}
+
+}  // namespace hdvio

@@ -1,0 +1,83 @@
+#include "hdvio/backend/vio_options.h"
+
+#include <stdexcept>
+
+namespace hdvio {
+
+VioMethod parseVioMethod(const std::string& name) {
+  if (name == "vio") return VioMethod::kVio;
+  if (name == "vimo") return VioMethod::kVimo;
+  if (name == "vid") return VioMethod::kVid;
+  if (name == "hdvio") return VioMethod::kHdvio;
+  throw std::invalid_argument("unknown visual-inertial method '" + name + "'");
+}
+
+std::string toString(VioMethod method) {
+  switch (method) {
+    case VioMethod::kVio: return "vio";
+    case VioMethod::kVimo: return "vimo";
+    case VioMethod::kVid: return "vid";
+    case VioMethod::kHdvio: return "hdvio";
+  }
+  return "?";
+}
+
+namespace {
+void readVec3(const ConfigReader& c, const std::string& key, Vec3* v) {
+  std::vector<double> x{v->x(), v->y(), v->z()};
+  c.readVector(key, &x, 3);
+  *v = Vec3(x[0], x[1], x[2]);
+}
+}  // namespace
+
+namespace {
+void finalize(VioBackendOptions* o) {
+  o->thrust.gyro_noise_density = o->imu.gyro_noise_density;
+  o->thrust.gyro_random_walk = o->imu.gyro_random_walk;
+  o->dynamics.variant = o->method == VioMethod::kVid     ? DynamicsVariant::kVidFusion
+                        : o->method == VioMethod::kHdvio ? DynamicsVariant::kHdvio
+                                                         : DynamicsVariant::kVimo;
+}
+}  // namespace
+
+VioBackendOptions defaultVioBackendOptions(VioMethod method) {
+  VioBackendOptions o;
+  o.method = method;
+  finalize(&o);
+  return o;
+}
+
+VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method) {
+  VioBackendOptions o;
+  o.method = method;
+  c.readInRange("num_keyframes", &o.num_keyframes, 2, 100);
+  c.readInRange("num_recent", &o.num_recent, 1, 100);
+  c.readInRange("keyframe_parallax_px", &o.keyframe_parallax_px, 0.0, 1000.0);
+  c.readInRange("keyframe_min_tracked_ratio", &o.keyframe_min_tracked_ratio, 0.0, 1.0);
+  c.readInRange("pixel_sigma", &o.pixel_sigma, 1e-3, 100.0);
+  std::string loss = "huber";
+  c.readChoice("robust_loss", &loss, {"none", "huber", "cauchy"});
+  o.robust_loss = loss == "none" ? RobustLoss::kNone
+                  : loss == "huber" ? RobustLoss::kHuber : RobustLoss::kCauchy;
+  c.readInRange("robust_width_px", &o.robust_width_px, 1e-3, 100.0);
+  c.readInRange("outlier_threshold_px", &o.outlier_threshold_px, 0.1, 1000.0);
+  c.readInRange("min_triangulation_angle_deg", &o.min_triangulation_angle_deg, 0.0, 45.0);
+  c.readInRange("max_iterations", &o.max_iterations, 1, 1000);
+  c.readInRange("max_solver_time_s", &o.max_solver_time_s, 1e-4, 1e4);
+  c.readInRange("gyro_noise_density", &o.imu.gyro_noise_density, 0.0, 1.0);
+  c.readInRange("accel_noise_density", &o.imu.accel_noise_density, 0.0, 10.0);
+  c.readInRange("gyro_random_walk", &o.imu.gyro_random_walk, 0.0, 1.0);
+  c.readInRange("accel_random_walk", &o.imu.accel_random_walk, 0.0, 10.0);
+  readVec3(c, "thrust_noise_density", &o.thrust.thrust_noise_density);
+  c.readInRange("thrust_direction_noise_density", &o.thrust.thrust_direction_noise_density, 0.0, 1.0);
+  readVec3(c, "residual_force_noise_density", &o.thrust.residual_force_noise_density);
+  c.readInRange("force_random_walk", &o.dynamics.force_random_walk, 1e-6, 1e3);
+  c.readInRange("force_prior_sigma", &o.dynamics.force_prior_sigma, 1e-6, 1e3);
+  c.readInRange("init_velocity_sigma", &o.init_velocity_sigma, 1e-6, 100.0);
+  c.readInRange("init_force_sigma", &o.init_force_sigma, 1e-6, 100.0);
+  c.finish();
+  finalize(&o);
+  return o;
+}
+
+}  // namespace hdvio

@@ -1,0 +1,19 @@
+#pragma once
+// Options shared by every dataset reader.
+#include <optional>
+
+namespace hdvio::io {
+
+struct ReadOptions {
+  // Largest allowed spacing of consecutive IMU samples; a longer gap is an input error.
+  double max_imu_gap_s = 0.05;
+  // Check at read time that every image listed in cam0/data.csv exists.
+  bool check_images_exist = true;
+  // Rotor-speed datasets without a published thrust model (DIDO, NeuroBEM): when given, the
+  // reader fills Sequence::rotor_calibration so that thrust = C_T / m * sum(w_i^2) along the
+  // thrust axis. Overrides a rotor0/sensor.yaml value for ASL folders.
+  std::optional<double> thrust_coefficient;  // N s^2 rad^-2
+  std::optional<double> mass;                // kg; default: the dataset's documented mass
+};
+
+}  // namespace hdvio::io

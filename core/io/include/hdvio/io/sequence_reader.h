@@ -1,0 +1,21 @@
+#pragma once
+// One entry point for every supported dataset: detects the format from the path.
+#include <string>
+
+#include "hdvio/core/sequence.h"
+#include "hdvio/io/read_options.h"
+
+namespace hdvio::io {
+
+enum class DatasetFormat { kAsl, kBlackbird, kDido, kNeuroBem };
+
+const char* formatName(DatasetFormat format);
+
+// ASL: a folder with mav0/ or imu0/. Blackbird / DIDO: a folder with data.hdf5, or that file
+// (told apart by their dataset names). NeuroBEM: a .csv whose header names its columns.
+// Throws InputError if the path is missing or matches no format.
+DatasetFormat detectFormat(const std::string& path);
+
+Sequence readSequence(const std::string& path, const ReadOptions& options = {});
+
+}  // namespace hdvio::io

@@ -1,0 +1,250 @@
+#include "sensor_yaml.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "hdvio/core/error.h"
+#include "hdvio/io/csv.h"
+
+namespace hdvio::io {
+namespace {
+
+// A parsed sensor.yaml with error messages that carry the file and line of the offending key.
+class SensorYaml {
+ public:
+  explicit SensorYaml(const std::string& path) : path_(path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, 0, "cannot open file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string text = ss.str();
+    // OpenCV's "%YAML:1.0" directive is not YAML 1.2; blank it but keep the line numbering.
+    if (text.rfind("%YAML", 0) == 0) {
+      const std::size_t eol = text.find('\n');
+      text.replace(0, eol == std::string::npos ? text.size() : eol, "");
+    }
+    try {
+      root_ = YAML::Load(text);
+    } catch (const YAML::Exception& e) {
+      throw InputError(path, e.mark.line + 1, "YAML syntax error: " + e.msg);
+    }
+    if (!root_.IsMap()) throw InputError(path, 0, "expected a YAML map of sensor parameters");
+  }
+
+  bool has(const std::string& key) const { return static_cast<bool>(root_[key]); }
+
+  YAML::Node node(const std::string& key) const {
+    YAML::Node n = root_[key];
+    if (!n) throw InputError(path_, 0, "missing key '" + key + "'");
+    return n;
+  }
+
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& problem) const {
+    throw InputError(path_, n.Mark().line + 1, "key '" + key + "': " + problem);
+  }
+
+  double number(const YAML::Node& n, const std::string& key) const {
+    double v = 0.0;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(n, key, "expected a number");
+    }
+    if (!std::isfinite(v)) fail(n, key, "non-finite value");
+    return v;
+  }
+  double number(const std::string& key) const { return number(node(key), key); }
+
+  std::vector<double> numbers(const std::string& key, int expected_size) const {
+    const YAML::Node n = node(key);
+    if (!n.IsSequence()) fail(n, key, "expected a list of numbers");
+    if (expected_size >= 0 && static_cast<int>(n.size()) != expected_size) {
+      fail(n, key, "expected " + std::to_string(expected_size) + " values, found " +
+                       std::to_string(n.size()));
+    }
+    std::vector<double> out;
+    for (const auto& item : n) out.push_back(number(item, key));
+    return out;
+  }
+
+  std::string text(const std::string& key) const {
+    const YAML::Node n = node(key);
+    if (!n.IsScalar()) fail(n, key, "expected a string");
+    return n.as<std::string>();
+  }
+
+  // EuRoC's {rows: 4, cols: 4, data: [16 values]} rigid transform.
+  Pose transform(const std::string& key) const {
+    const YAML::Node n = node(key);
+    if (!n.IsMap() || !n["rows"] || !n["cols"] || !n["data"])
+      fail(n, key, "expected a map with rows, cols and data");
+    if (number(n["rows"], key + ".rows") != 4 || number(n["cols"], key + ".cols") != 4)
+      fail(n, key, "expected a 4x4 matrix");
+    const YAML::Node d = n["data"];
+    if (!d.IsSequence() || d.size() != 16) fail(d, key + ".data", "expected 16 values");
+    Mat4 T;
+    for (int i = 0; i < 16; ++i) T(i / 4, i % 4) = number(d[i], key + ".data");
+    if ((T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)
+      fail(d, key, "last row must be [0, 0, 0, 1]");
+    const Mat3 R = T.topLeftCorner<3, 3>();
+    const double orthonormality = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+    if (orthonormality > 1e-6 || R.determinant() < 0.0) {
+      fail(d, key, "rotation part is not orthonormal (max |R^T R - I| = " +
+                       std::to_string(orthonormality) + ", det = " + std::to_string(R.determinant()) + ")");
+    }
+    return Pose(normalizeRotation(R), Vec3(T.topRightCorner<3, 1>()));
+  }
+
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  YAML::Node root_;
+};
+
+std::string matrixYaml(const Pose& T) {
+  const Mat4 M = T.matrix();
+  std::string s = "T_BS:\n  cols: 4\n  rows: 4\n  data: [";
+  for (int i = 0; i < 16; ++i) {
+    s += formatDouble(M(i / 4, i % 4));
+    s += i == 15 ? "]\n" : (i % 4 == 3 ? ",\n         " : ", ");
+  }
+  return s;
+}
+
+std::string list(const std::vector<double>& v) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + formatDouble(v[i]);
+  return s + "]";
+}
+
+}  // namespace
+
+const char* distortionName(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::kRadialTangential: return "radial-tangential";
+    case DistortionModel::kEquidistant: return "equidistant";
+    case DistortionModel::kNone: break;
+  }
+  return "none";
+}
+
+ImuCalibration readImuSensorYaml(const std::string& path) {
+  const SensorYaml y(path);
+  ImuCalibration c;
+  c.T_BS = y.transform("T_BS");
+  c.rate_hz = y.number("rate_hz");
+  c.gyro_noise_density = y.number("gyroscope_noise_density");
+  c.gyro_random_walk = y.number("gyroscope_random_walk");
+  c.accel_noise_density = y.number("accelerometer_noise_density");
+  c.accel_random_walk = y.number("accelerometer_random_walk");
+  if (c.rate_hz <= 0.0) y.fail(y.node("rate_hz"), "rate_hz", "must be positive");
+  for (const char* key : {"gyroscope_noise_density", "gyroscope_random_walk",
+                          "accelerometer_noise_density", "accelerometer_random_walk"}) {
+    if (y.number(key) < 0.0) y.fail(y.node(key), key, "must not be negative");
+  }
+  return c;
+}
+
+CameraCalibration readCameraSensorYaml(const std::string& path) {
+  const SensorYaml y(path);
+  CameraCalibration c;
+  c.T_BS = y.transform("T_BS");
+  c.rate_hz = y.number("rate_hz");
+  const std::vector<double> res = y.numbers("resolution", 2);
+  c.width = static_cast<int>(res[0]);
+  c.height = static_cast<int>(res[1]);
+  if (res[0] != c.width || res[1] != c.height || c.width <= 0 || c.height <= 0)
+    y.fail(y.node("resolution"), "resolution", "expected two positive integers");
+  const std::string camera_model = y.text("camera_model");
+  if (camera_model != "pinhole")
+    y.fail(y.node("camera_model"), "camera_model", "unsupported '" + camera_model + "' (expected pinhole)");
+  const std::vector<double> k = y.numbers("intrinsics", 4);
+  c.fu = k[0];
+  c.fv = k[1];
+  c.cu = k[2];
+  c.cv = k[3];
+  if (c.fu <= 0 || c.fv <= 0 || c.cu <= 0 || c.cv <= 0)
+    y.fail(y.node("intrinsics"), "intrinsics", "fu, fv, cu, cv must be positive");
+  if (c.rate_hz <= 0.0) y.fail(y.node("rate_hz"), "rate_hz", "must be positive");
+
+  const std::string model = y.has("distortion_model") ? y.text("distortion_model") : "none";
+  int expected = 0;
+  if (model == "radial-tangential" || model == "radtan") {
+    c.distortion = DistortionModel::kRadialTangential;
+    expected = 4;
+  } else if (model == "equidistant" || model == "equi") {
+    c.distortion = DistortionModel::kEquidistant;
+    expected = 4;
+  } else if (model == "none") {
+    c.distortion = DistortionModel::kNone;
+  } else {
+    y.fail(y.node("distortion_model"), "distortion_model",
+           "unknown model '" + model + "' (expected radial-tangential, equidistant or none)");
+  }
+  if (expected > 0 || y.has("distortion_coefficients")) {
+    c.distortion_coefficients = y.numbers("distortion_coefficients", expected);
+  }
+  return c;
+}
+
+RotorCalibration readRotorSensorYaml(const std::string& path) {
+  const SensorYaml y(path);
+  RotorCalibration c;
+  c.mass = y.number("mass");
+  c.thrust_coefficient = y.number("thrust_coefficient");
+  const std::vector<double> axis = y.numbers("thrust_axis", 3);
+  c.thrust_axis = Vec3(axis[0], axis[1], axis[2]);
+  if (c.mass <= 0.0) y.fail(y.node("mass"), "mass", "must be positive");
+  if (c.thrust_coefficient <= 0.0)
+    y.fail(y.node("thrust_coefficient"), "thrust_coefficient", "must be positive");
+  if (std::fabs(c.thrust_axis.norm() - 1.0) > 1e-6)
+    y.fail(y.node("thrust_axis"), "thrust_axis", "must be a unit vector");
+  return c;
+}
+
+void validateCamera(const CameraCalibration& c, const std::string& file) {
+  if (c.width <= 0 || c.height <= 0) throw InputError(file, 0, "camera resolution must be positive");
+  if (!(c.fu > 0 && c.fv > 0 && c.cu > 0 && c.cv > 0))
+    throw InputError(file, 0, "camera intrinsics must be positive");
+  const std::size_t expected = c.distortion == DistortionModel::kNone ? 0 : 4;
+  if (c.distortion_coefficients.size() != expected &&
+      !(c.distortion == DistortionModel::kNone && c.distortion_coefficients.size() == 4)) {
+    throw InputError(file, 0, std::string("distortion model ") + distortionName(c.distortion) +
+                                  " needs " + std::to_string(expected) + " coefficients, got " +
+                                  std::to_string(c.distortion_coefficients.size()));
+  }
+}
+
+std::string imuSensorYaml(const ImuCalibration& c) {
+  return "%YAML:1.0\n# Written by hdvio\nsensor_type: imu\n" + matrixYaml(c.T_BS) +
+         "rate_hz: " + formatDouble(c.rate_hz) + "\n" +
+         "gyroscope_noise_density: " + formatDouble(c.gyro_noise_density) + "\n" +
+         "gyroscope_random_walk: " + formatDouble(c.gyro_random_walk) + "\n" +
+         "accelerometer_noise_density: " + formatDouble(c.accel_noise_density) + "\n" +
+         "accelerometer_random_walk: " + formatDouble(c.accel_random_walk) + "\n";
+}
+
+std::string cameraSensorYaml(const CameraCalibration& c) {
+  return "%YAML:1.0\n# Written by hdvio\nsensor_type: camera\n" + matrixYaml(c.T_BS) +
+         "rate_hz: " + formatDouble(c.rate_hz) + "\n" +
+         "resolution: [" + std::to_string(c.width) + ", " + std::to_string(c.height) + "]\n" +
+         "camera_model: pinhole\n" +
+         "intrinsics: " + list({c.fu, c.fv, c.cu, c.cv}) + "  # fu, fv, cu, cv\n" +
+         "distortion_model: " + distortionName(c.distortion) + "\n" +
+         "distortion_coefficients: " + list(c.distortion_coefficients) + "\n";
+}
+
+std::string rotorSensorYaml(const RotorCalibration& c) {
+  return "%YAML:1.0\n# Written by hdvio: thrust = thrust_coefficient / mass * sum(w_i^2) * thrust_axis\n"
+         "sensor_type: rotor\n"
+         "mass: " + formatDouble(c.mass) + "  # [kg]\n" +
+         "thrust_coefficient: " + formatDouble(c.thrust_coefficient) + "  # [N s^2 rad^-2]\n" +
+         "thrust_axis: " + list({c.thrust_axis.x(), c.thrust_axis.y(), c.thrust_axis.z()}) +
+         "  # IMU frame\n";
+}
+
+}  // namespace hdvio::io

@@ -1,0 +1,23 @@
+#pragma once
+// ASL sensor.yaml files (imu0, cam0, rotor0): strict reading with file:line errors, and writing.
+#include <string>
+
+#include "hdvio/core/sequence.h"
+
+namespace hdvio::io {
+
+ImuCalibration readImuSensorYaml(const std::string& path);
+CameraCalibration readCameraSensorYaml(const std::string& path);
+RotorCalibration readRotorSensorYaml(const std::string& path);
+
+std::string imuSensorYaml(const ImuCalibration& calib);
+std::string cameraSensorYaml(const CameraCalibration& calib);
+std::string rotorSensorYaml(const RotorCalibration& calib);
+
+// Throws InputError unless the calibration is usable (positive intrinsics and size, the right
+// number of distortion coefficients for the model, finite values).
+void validateCamera(const CameraCalibration& calib, const std::string& file);
+
+const char* distortionName(DistortionModel model);
+
+}  // namespace hdvio::io

@@ -1,0 +1,69 @@
+// Reproduces the values evo stores for its KITTI 00 test data (../shared/data/reference_metrics):
+// APE translation part with SE(3) Umeyama alignment, RPE translation part with delta 10 m on
+// consecutive pairs, index association.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "hdvio/eval/alignment.h"
+#include "hdvio/eval/association.h"
+#include "hdvio/eval/pose_errors.h"
+#include "hdvio/eval/statistics.h"
+#include "hdvio/eval/trajectory_io.h"
+
+namespace hdvio::eval {
+namespace {
+
+const std::string kDir = std::string(HDVIO_DATA_DIR) + "/reference_metrics";
+
+class EvalEvoReference : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!std::filesystem::exists(kDir + "/KITTI_00_gt.txt"))
+      GTEST_SKIP() << "reference data missing: " << kDir;
+    gt_ = readTrajectory(kDir + "/KITTI_00_gt.txt");
+    est_ = readTrajectory(kDir + "/KITTI_00_ORB.txt");
+  }
+  Trajectory gt_, est_;
+};
+
+// Relative tolerance demanded by the issue.
+void expectRelNear(double actual, double expected) {
+  EXPECT_NEAR(actual, expected, 1e-6 * std::abs(expected)) << "expected " << expected;
+}
+
+TEST_F(EvalEvoReference, FilesAreKittiWithEqualLength) {
+  EXPECT_FALSE(gt_.has_timestamps);
+  EXPECT_EQ(gt_.size(), 4541u);
+  EXPECT_EQ(est_.size(), 4541u);
+}
+
+TEST_F(EvalEvoReference, ApeTranslationWithSe3Alignment) {
+  AssociationOptions assoc;
+  assoc.mode = AssociationMode::kIndex;
+  const AssociatedPair pair = associate(gt_, est_, assoc);
+  const SimilarityTransform T = computeAlignment(AlignmentType::kSE3, pair.ref, pair.est, -1);
+  EXPECT_DOUBLE_EQ(T.s, 1.0);
+  const ErrorStatistics s =
+      computeStatistics(absoluteErrors(pair.ref, applyAlignment(T, pair.est)).translation);
+  expectRelNear(s.rmse, 1.3034497145650266);
+  expectRelNear(s.mean, 1.1569971285389768);
+  expectRelNear(s.median, 1.065624769555848);
+  expectRelNear(s.max, 3.587949120678954);
+  expectRelNear(s.min, 0.06931322021483087);
+}
+
+TEST_F(EvalEvoReference, RpeTranslationDelta10Meters) {
+  EvoRpeOptions rpe;
+  rpe.delta = 10.0;
+  rpe.unit = DeltaUnit::kMeters;
+  const RelativeErrors r = evoRelativeErrors(gt_, est_, rpe);
+  const ErrorStatistics s = computeStatistics(r.translation);
+  expectRelNear(s.rmse, 0.22626134329310163);
+  expectRelNear(s.mean, 0.16901737200653275);
+  expectRelNear(s.max, 1.2722090778658726);
+}
+
+}  // namespace
+}  // namespace hdvio::eval

@@ -1,0 +1,187 @@
+// Statistics, association, evo RPE pair selection and the rpg relative error on trajectories
+// whose errors are known in closed form.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hdvio/core/error.h"
+#include "hdvio/eval/association.h"
+#include "hdvio/eval/pose_errors.h"
+#include "hdvio/eval/signal_errors.h"
+#include "hdvio/eval/statistics.h"
+
+namespace hdvio::eval {
+namespace {
+
+// Straight line along x, `step` metres apart, 10 Hz.
+Trajectory line(int n, double step, double x_scale = 1.0) {
+  Trajectory t;
+  for (int i = 0; i < n; ++i)
+    t.push(i * kNanosPerSecond / 10, Vec3(x_scale * step * i, 0, 1), Mat3::Identity());
+  return t;
+}
+
+TEST(EvalStatistics, MatchesNumpyDefinitions) {
+  const ErrorStatistics s = computeStatistics({1.0, 2.0, 3.0, 4.0});
+  EXPECT_DOUBLE_EQ(s.mean, 2.5);
+  EXPECT_DOUBLE_EQ(s.median, 2.5);
+  EXPECT_DOUBLE_EQ(s.rmse, std::sqrt(30.0 / 4.0));
+  EXPECT_DOUBLE_EQ(s.std, std::sqrt(1.25));  // population std, numpy's default
+  EXPECT_DOUBLE_EQ(s.min, 1.0);
+  EXPECT_DOUBLE_EQ(s.max, 4.0);
+  EXPECT_DOUBLE_EQ(computeStatistics({5.0, 1.0, 3.0}).median, 3.0);
+  EXPECT_TRUE(std::isnan(computeStatistics({}).rmse));
+}
+
+TEST(EvalAssociation, NearestStampWithinToleranceLikeEvo) {
+  Trajectory ref = line(10, 1.0);  // stamps 0, 0.1, ..., 0.9 s
+  Trajectory est;
+  // 0.104 s matches 0.1 s (4 ms away); 0.355 s is 45 ms from 0.4 s: no match at the default
+  // 10 ms tolerance; 0.6 s matches exactly.
+  for (Timestamp t : {104'000'000LL, 355'000'000LL, 600'000'000LL})
+    est.push(t, Vec3::Zero(), Mat3::Identity());
+  AssociationOptions o;
+  const AssociatedPair p = associate(ref, est, o);
+  ASSERT_EQ(p.est.size(), 2u);
+  EXPECT_EQ(p.ref.t[0], 100'000'000LL);
+  EXPECT_EQ(p.ref.t[1], 600'000'000LL);
+  EXPECT_EQ(p.est.t[0], 104'000'000LL);
+}
+
+TEST(EvalAssociation, TimeOffsetShiftsTheEstimate) {
+  Trajectory ref = line(10, 1.0);
+  Trajectory est = line(10, 1.0);
+  for (Timestamp& t : est.t) t -= 500'000'000LL;  // estimate clock 0.5 s behind
+  AssociationOptions o;
+  o.time_offset_s = 0.5;
+  EXPECT_EQ(associate(ref, est, o).est.size(), 10u);
+  o.time_offset_s = 0.0;
+  EXPECT_EQ(associate(ref, est, o).est.size(), 5u);
+}
+
+TEST(EvalAssociation, InterpolationIsExactOnLinearMotion) {
+  Trajectory ref = line(10, 1.0);
+  ref.R.assign(ref.size(), Mat3::Identity());
+  for (std::size_t i = 0; i < ref.size(); ++i)
+    ref.R[i] = Eigen::AngleAxisd(0.1 * i, Vec3::UnitZ()).toRotationMatrix();
+  Trajectory est;
+  est.push(125'000'000LL, Vec3::Zero(), Mat3::Identity());  // a quarter between 0.1 and 0.2 s
+  AssociationOptions o;
+  o.mode = AssociationMode::kInterpolate;
+  o.max_time_diff_s = 0.05;
+  const AssociatedPair p = associate(ref, est, o);
+  ASSERT_EQ(p.ref.size(), 1u);
+  EXPECT_NEAR(p.ref.p[0].x(), 1.25, 1e-12);
+  const Mat3 expected = Eigen::AngleAxisd(0.125, Vec3::UnitZ()).toRotationMatrix();
+  EXPECT_LT((p.ref.R[0] - expected).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(EvalAssociation, IndexNeedsEqualLengthsAndNoMatchIsAnError) {
+  AssociationOptions o;
+  o.mode = AssociationMode::kIndex;
+  EXPECT_THROW(associate(line(5, 1.0), line(6, 1.0), o), InputError);
+  Trajectory far = line(5, 1.0);
+  for (Timestamp& t : far.t) t += 100 * kNanosPerSecond;
+  EXPECT_THROW(associate(line(5, 1.0), far, AssociationOptions{}), InputError);
+}
+
+TEST(EvalEvoPairs, PathDeltaStartsAfterTheFirstDeltaLikeEvo) {
+  // evo's filter_pairs_by_path: ids where the accumulated path reaches delta: 3, 6, 9.
+  EvoRpeOptions o{3.0, DeltaUnit::kMeters, false, 0.1, false};
+  const IndexPairs pairs = evoPairs(line(11, 1.0).p, o);
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_EQ(pairs[0].first, 3u);
+  EXPECT_EQ(pairs[0].second, 6u);
+  EXPECT_EQ(pairs[1].first, 6u);
+  EXPECT_EQ(pairs[1].second, 9u);
+}
+
+TEST(EvalEvoPairs, FramesAndAllPairs) {
+  const std::vector<Vec3> p = line(10, 1.0).p;
+  EXPECT_EQ(evoPairs(p, {3.0, DeltaUnit::kFrames, false, 0.1, false}).size(), 3u);  // 0-3-6-9
+  EXPECT_EQ(evoPairs(p, {3.0, DeltaUnit::kFrames, true, 0.1, false}).size(), 7u);
+  const IndexPairs all = evoPairs(p, {2.0, DeltaUnit::kMeters, true, 0.1, false});
+  ASSERT_EQ(all.size(), 8u);
+  for (const auto& [i, j] : all) EXPECT_EQ(j, i + 2);
+  EXPECT_TRUE(evoPairs(p, {100.0, DeltaUnit::kMeters, false, 0.1, false}).empty());
+}
+
+TEST(EvalEvoRelativeError, ScaleErrorGivesKnownTranslationError) {
+  // Estimate moves 1.1 m per true metre: over a 2-frame pair (2 m true) the error is 0.2 m.
+  const Trajectory ref = line(20, 1.0), est = line(20, 1.0, 1.1);
+  const RelativeErrors r = evoRelativeErrors(ref, est, {2.0, DeltaUnit::kFrames, false, 0.1, false});
+  for (double e : r.translation) EXPECT_NEAR(e, 0.2, 1e-12);
+  for (double e : r.rotation_deg) EXPECT_NEAR(e, 0.0, 1e-6);
+}
+
+TEST(EvalRpgRelativeError, ScaleErrorGivesKnownPercentAndSampleCount) {
+  const Trajectory ref = line(101, 0.1), est = line(101, 0.1, 1.1);  // 10 m
+  const RpgRelativeError r = rpgRelativeError(ref, est, 2.0, 0.35);
+  // Starts 0..80 reach exactly 2 m further; 81..83 end at the last pose, within 0.35 m of it.
+  EXPECT_EQ(r.translation.size(), 84u);
+  EXPECT_NEAR(r.translation[0], 0.2, 1e-9);
+  EXPECT_NEAR(r.translation_percent[0], 10.0, 1e-7);
+  EXPECT_NEAR(r.rotation_deg[0], 0.0, 1e-6);
+  // The Sim(3) scale correction removes it.
+  const RpgRelativeError corrected = rpgRelativeError(ref, est, 2.0, 0.35, 1.0 / 1.1);
+  EXPECT_NEAR(corrected.translation[0], 0.0, 1e-9);
+}
+
+TEST(EvalRpgRelativeError, YawDriftShowsAsYawNotGravity) {
+  Trajectory ref = line(101, 0.1), est = line(101, 0.1);
+  for (std::size_t i = 0; i < est.size(); ++i)
+    est.R[i] = Eigen::AngleAxisd(0.001 * i, Vec3::UnitZ()).toRotationMatrix();  // 0.01 rad per m
+  const RpgRelativeError r = rpgRelativeError(ref, est, 5.0);
+  ASSERT_FALSE(r.yaw_deg.empty());
+  EXPECT_NEAR(r.yaw_deg[0], 0.05 * 180.0 / M_PI, 1e-9);
+  EXPECT_NEAR(r.rotation_deg[0], 0.05 * 180.0 / M_PI, 1e-6);
+  EXPECT_NEAR(r.gravity_deg[0], 0.0, 1e-9);
+}
+
+TEST(EvalRpgDistances, TruncatedFractionsOfTheLength) {
+  const std::vector<double> d = rpgDistancesFromFractions(123.456, {0.1, 0.5});
+  EXPECT_DOUBLE_EQ(d[0], 12.34);
+  EXPECT_DOUBLE_EQ(d[1], 61.72);
+}
+
+TEST(EvalAbsoluteErrors, TranslationAndRotation) {
+  Trajectory ref = line(3, 1.0), est = line(3, 1.0);
+  est.p[1] += Vec3(0, 0.3, 0.4);
+  est.R[2] = Eigen::AngleAxisd(0.1, Vec3::UnitX()).toRotationMatrix();
+  const AbsoluteErrors e = absoluteErrors(ref, est);
+  EXPECT_NEAR(e.translation[1], 0.5, 1e-12);
+  EXPECT_NEAR(e.rotation_deg[2], 0.1 * 180.0 / M_PI, 1e-6);
+}
+
+TEST(EvalForceErrors, ExternalAndTotalSplitIntoXyAndZ) {
+  ForceGroundTruth gt;
+  VectorSeries est;
+  for (int i = 0; i < 4; ++i) {
+    gt.t.push_back(i * 10'000'000LL);
+    gt.external.emplace_back(1, 0, 0);
+    gt.drag.emplace_back(0, 0, -1);
+    est.t.push_back(i * 10'000'000LL + 1000);
+    est.value.emplace_back(1, 0, -1);  // equals the total force, misses the external by (0,0,-1)
+  }
+  const auto f = forceErrors(gt, est, 5'000'000LL);
+  ASSERT_TRUE(f.has_value());
+  EXPECT_NEAR(f->total.total.rmse, 0.0, 1e-12);
+  EXPECT_NEAR(f->external.total.rmse, 1.0, 1e-12);
+  EXPECT_NEAR(f->external.z.rmse, 1.0, 1e-12);
+  EXPECT_NEAR(f->external.xy.rmse, 0.0, 1e-12);
+}
+
+TEST(EvalVelocityErrors, EstimateIsRotatedByTheAlignment) {
+  Trajectory gt = line(3, 1.0);
+  gt.v.assign(3, Vec3(0, 1, 0));
+  VectorSeries est{"", gt.t, {Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0)}};
+  SimilarityTransform T;
+  T.R = Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()).toRotationMatrix();
+  const auto e = velocityErrors(gt, est, T, 1000);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_NEAR(e->total.rmse, 0.0, 1e-12);
+  EXPECT_NEAR(velocityErrors(gt, est, SimilarityTransform{}, 1000)->total.rmse, std::sqrt(2.0), 1e-12);
+}
+
+}  // namespace
+}  // namespace hdvio::eval
