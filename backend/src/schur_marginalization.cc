@@ -7,13 +7,23 @@
 namespace hdvio {
 namespace {
 
-// Symmetric pseudo-inverse via eigen-decomposition with a relative threshold.
-Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A, double rel_threshold) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (A + A.transpose()));
+// Jacobi scaling 1/sqrt(diag): information in a VIO window spans many orders of magnitude
+// (gyro-bias random walk ~1e10, a velocity prior ~1e2), so thresholds are applied to the
+// diagonally normalized matrix, where "small" means small relative to that variable's own
+// information.
+Eigen::VectorXd jacobiScaling(const Eigen::MatrixXd& A) {
+  return A.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+}
+
+// Symmetric pseudo-inverse via eigen-decomposition of the scaled matrix with a threshold.
+Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A, double threshold) {
+  const Eigen::VectorXd s = jacobiScaling(A);
+  const Eigen::MatrixXd As = s.asDiagonal() * (0.5 * (A + A.transpose())) * s.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(As);
   const Eigen::VectorXd& l = eig.eigenvalues();
-  const double cut = rel_threshold * std::max(l.cwiseAbs().maxCoeff(), 1e-300);
-  const Eigen::VectorXd inv = (l.array() > cut).select(l.cwiseInverse(), 0.0);
-  return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+  const Eigen::VectorXd inv = (l.array() > threshold).select(l.cwiseInverse(), 0.0);
+  return s.asDiagonal() * eig.eigenvectors() * inv.asDiagonal() *
+         eig.eigenvectors().transpose() * s.asDiagonal();
 }
 
 }  // namespace
@@ -75,31 +85,33 @@ std::shared_ptr<MarginalizationPrior> marginalizeBySchurComplement(
   for (Key k : marginalized) m += values.tangentDim(k);
   const int r = static_cast<int>(sys.H.rows()) - m;
 
-  const Eigen::MatrixXd Hmm_inv = pseudoInverse(sys.H.topLeftCorner(m, m),
-                                                options.relative_eigen_threshold);
+  const Eigen::MatrixXd Hmm_inv = pseudoInverse(sys.H.topLeftCorner(m, m), options.eigen_threshold);
   const Eigen::MatrixXd Hrm = sys.H.bottomLeftCorner(r, m);
   Eigen::MatrixXd H = sys.H.bottomRightCorner(r, r) - Hrm * Hmm_inv * Hrm.transpose();
   const Eigen::VectorXd b = sys.b.tail(r) - Hrm * Hmm_inv * sys.b.head(m);
   H = 0.5 * (H + H.transpose());
 
-  // Factor H = J0^T J0 and b = J0^T r0 over the positive eigenvalues only.
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
+  // Factor H = J0^T J0 and b = J0^T r0 over the significant eigenvalues only. The scaling
+  // comes from the information the remaining variables had before the elimination, so what
+  // cancels in the complement (e.g. all a free variable carried) comes out as no information.
+  const Eigen::VectorXd scale = jacobiScaling(sys.H.bottomRightCorner(r, r));
+  const Eigen::MatrixXd Hs = scale.asDiagonal() * H * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Hs);
   const Eigen::VectorXd& l = eig.eigenvalues();
-  // Relative to the scale of the whole system: what cancels in the complement (e.g. the
-  // information a free variable carried) must come out as exactly no information.
-  const double scale = std::max(sys.H.diagonal().maxCoeff(), 1e-300);
-  const double cut = options.relative_eigen_threshold * scale;
   std::vector<int> kept;
   for (int i = 0; i < l.size(); ++i)
-    if (l[i] > cut) kept.push_back(i);
+    if (l[i] > options.eigen_threshold) kept.push_back(i);
   if (kept.empty()) return nullptr;
   Eigen::MatrixXd J0(kept.size(), r);
   Eigen::VectorXd r0(kept.size());
+  const Eigen::VectorXd inv_scale = scale.cwiseInverse();
   for (std::size_t row = 0; row < kept.size(); ++row) {
     const int i = kept[row];
-    const double s = std::sqrt(l[i]);
-    J0.row(row) = s * eig.eigenvectors().col(i).transpose();
-    r0[row] = eig.eigenvectors().col(i).dot(b) / s;
+    const double sq = std::sqrt(l[i]);
+    const Eigen::VectorXd u = eig.eigenvectors().col(i);
+    // H = S^-1 U L U^T S^-1  =>  J0 rows sqrt(l) u^T S^-1;  b = J0^T r0  =>  r0 = u^T S b / sqrt(l).
+    J0.row(row) = sq * u.cwiseProduct(inv_scale).transpose();
+    r0[row] = u.cwiseProduct(scale).dot(b) / sq;
   }
   return std::make_shared<MarginalizationPrior>(remaining, values, std::move(J0), std::move(r0));
 }

@@ -21,7 +21,9 @@ SmootherOptions smootherOptions(const VioBackendOptions& o) {
   SmootherOptions s;
   s.optimizer.max_iterations = o.max_iterations;
   s.optimizer.max_time_s = o.max_solver_time_s;
-  s.optimizer.linear_solver = ceres::SPARSE_NORMAL_CHOLESKY;
+  s.optimizer.linear_solver = o.linear_solver == "dense_schur"    ? ceres::DENSE_SCHUR
+                              : o.linear_solver == "sparse_schur" ? ceres::SPARSE_SCHUR
+                                                                  : ceres::SPARSE_NORMAL_CHOLESKY;
   return s;
 }
 }  // namespace
@@ -278,7 +280,7 @@ void VioBackend::maintainWindow() {
   // States older than the K most recent stay only if they are keyframes.
   for (std::size_t n = 0; n + recent < states_.size();) {
     if (!states_[n].keyframe) {
-      marginalizeState(states_[n].index);
+      marginalizeState(states_[n].index, /*keep_landmark_information=*/false);
     } else {
       ++n;
     }
@@ -286,13 +288,26 @@ void VioBackend::maintainWindow() {
   auto old_keyframes = [&] {
     return states_.size() > recent ? static_cast<int>(states_.size() - recent) : 0;
   };
-  while (old_keyframes() > options_.num_keyframes) marginalizeState(states_.front().index);
+  while (old_keyframes() > options_.num_keyframes)
+    marginalizeState(states_.front().index, /*keep_landmark_information=*/true);
 }
 
-void VioBackend::marginalizeState(std::uint64_t index) {
+void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_information) {
+  // Landmarks first seen by a leaving keyframe leave with it (their observations from the
+  // other states go into the prior, as VINS does with the landmarks anchored in the oldest
+  // frame); other observations by the leaving state are dropped to keep the prior sparse.
+  std::set<Key> leaving{X(index), V(index), B(index)};
+  if (smoother_.estimate().exists(F(index))) leaving.insert(F(index));
   std::set<Key> dead_landmarks;
   for (auto it = tracks_.begin(); it != tracks_.end();) {
     Track& track = it->second;
+    const bool observed = track.obs.count(index) > 0;
+    if (observed && track.in_graph && keep_landmark_information &&
+        track.obs.begin()->first == index && track.factors.count(index)) {
+      leaving.insert(L(it->first));
+      it = tracks_.erase(it);
+      continue;
+    }
     track.obs.erase(index);
     const auto f = track.factors.find(index);
     if (f != track.factors.end()) {
@@ -307,9 +322,7 @@ void VioBackend::marginalizeState(std::uint64_t index) {
     it = (track.obs.empty() && !track.in_graph) ? tracks_.erase(it) : std::next(it);
   }
   if (!dead_landmarks.empty()) smoother_.removeVariables(dead_landmarks);
-  std::set<Key> keys{X(index), V(index), B(index)};
-  if (smoother_.estimate().exists(F(index))) keys.insert(F(index));
-  smoother_.marginalize(keys);
+  smoother_.marginalize(leaving);
   states_.erase(std::find_if(states_.begin(), states_.end(),
                              [&](const StateSlot& s) { return s.index == index; }));
   if (last_keyframe_ == index) last_keyframe_.reset();

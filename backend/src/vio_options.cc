@@ -63,6 +63,8 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   c.readInRange("outlier_threshold_px", &o.outlier_threshold_px, 0.1, 1000.0);
   c.readInRange("min_triangulation_angle_deg", &o.min_triangulation_angle_deg, 0.0, 45.0);
   c.readInRange("max_iterations", &o.max_iterations, 1, 1000);
+  c.readChoice("linear_solver", &o.linear_solver,
+               {"dense_schur", "sparse_schur", "sparse_normal_cholesky"});
   c.readInRange("max_solver_time_s", &o.max_solver_time_s, 1e-4, 1e4);
   c.readInRange("gyro_noise_density", &o.imu.gyro_noise_density, 0.0, 1.0);
   c.readInRange("accel_noise_density", &o.imu.accel_noise_density, 0.0, 10.0);

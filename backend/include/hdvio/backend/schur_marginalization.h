@@ -14,8 +14,9 @@
 namespace hdvio {
 
 struct MarginalizationOptions {
-  // Eigenvalues below threshold * (largest diagonal entry of the system) are treated as zero.
-  double relative_eigen_threshold = 1e-9;
+  // Eigenvalues of the Jacobi-scaled (unit-diagonal) information below this are treated as
+  // zero: directions with less than this fraction of their variables' own information.
+  double eigen_threshold = 1e-9;
 };
 
 // Returns nullptr if no variable remains connected (the information simply leaves the window).

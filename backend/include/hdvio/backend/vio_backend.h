@@ -77,7 +77,7 @@ class VioBackend {
   bool tryTriangulate(int id, Track* track);
   int rejectOutliers();
   void maintainWindow();
-  void marginalizeState(std::uint64_t index);
+  void marginalizeState(std::uint64_t index, bool keep_landmark_information);
   Pose cameraPose(std::uint64_t index) const;
 
   VioBackendOptions options_;

@@ -35,6 +35,8 @@ struct VioBackendOptions {
   int min_observations = 2;
 
   int max_iterations = 8;
+  // Landmarks are eliminated first (Schur complement) unless sparse_normal_cholesky is chosen.
+  std::string linear_solver = "dense_schur";  // dense_schur | sparse_schur | sparse_normal_cholesky
   double max_solver_time_s = 1e3;  // wall-clock budget; large by default so runs are deterministic
 
   ImuNoiseParams imu;

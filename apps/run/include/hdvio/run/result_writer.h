@@ -1,0 +1,34 @@
+#pragma once
+// Writes an estimator's results in the formats of FORMATS.md: the TUM-order trajectory plus
+// CSVs of velocity, biases and external force (IMU frame) with the same timestamps, per-frame
+// timing and the effective configuration. Everything goes to a temporary folder that is
+// renamed into place at the end, so a failed run never leaves partial results.
+#include <string>
+#include <vector>
+
+#include "hdvio/backend/nav_state.h"
+
+namespace hdvio::run {
+
+struct FrameTiming {
+  Timestamp t = 0;
+  double backend_ms = 0.0;
+  int solver_iterations = 0;
+  int landmarks = 0;
+  int observations = 0;
+  bool keyframe = false;
+};
+
+struct RunResults {
+  std::vector<NavState> states;
+  std::vector<FrameTiming> timing;
+  std::string effective_config;  // YAML
+  bool has_force = false;
+};
+
+// Throws InputError unless out_dir is absent, empty, or an earlier hdvio result (which will be
+// replaced): never deletes a folder it did not write.
+void checkOutputFolder(const std::string& out_dir);
+void writeResults(const RunResults& results, const std::string& out_dir);
+
+}  // namespace hdvio::run

@@ -1,0 +1,84 @@
+#include "hdvio/run/result_writer.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "hdvio/core/error.h"
+
+namespace hdvio::run {
+namespace fs = std::filesystem;
+
+namespace {
+std::ofstream openOut(const fs::path& path) {
+  std::ofstream f(path);
+  if (!f) throw InputError(path.string(), 0, "cannot write output file");
+  f.precision(9);
+  f << std::fixed;
+  return f;
+}
+}  // namespace
+
+void checkOutputFolder(const std::string& out_dir) {
+  const fs::path dir(out_dir);
+  std::error_code ec;
+  if (!fs::exists(dir, ec) || fs::is_empty(dir, ec)) return;
+  if (!fs::is_directory(dir, ec))
+    throw InputError(out_dir, 0, "output path exists and is not a folder");
+  if (!fs::exists(dir / "stamped_traj_estimate.txt") || !fs::exists(dir / "config.yaml"))
+    throw InputError(out_dir, 0,
+                     "output folder is not empty and holds no earlier hdvio result; choose another");
+}
+
+void writeResults(const RunResults& r, const std::string& out_dir) {
+  checkOutputFolder(out_dir);
+  const fs::path final_dir(out_dir);
+  const fs::path tmp = final_dir.string() + ".partial";
+  std::error_code ec;
+  fs::remove_all(tmp, ec);
+  fs::create_directories(tmp, ec);
+  if (ec) throw InputError(tmp.string(), 0, "cannot create output folder: " + ec.message());
+
+  auto traj = openOut(tmp / "stamped_traj_estimate.txt");
+  traj << "# timestamp[s] tx ty tz qx qy qz qw\n";
+  auto vel = openOut(tmp / "stamped_velocity_estimate.csv");
+  vel << "#timestamp [ns],v_x [m s^-1],v_y [m s^-1],v_z [m s^-1]\n";
+  auto bias = openOut(tmp / "stamped_bias_estimate.csv");
+  bias << "#timestamp [ns],b_w_x [rad s^-1],b_w_y,b_w_z,b_a_x [m s^-2],b_a_y,b_a_z\n";
+  std::ofstream force;
+  if (r.has_force) {
+    force = openOut(tmp / "stamped_force_estimate.csv");
+    force << "#timestamp [ns],f_ext_x [m s^-2],f_ext_y [m s^-2],f_ext_z [m s^-2]\n";
+  }
+  for (const NavState& s : r.states) {
+    const Pose& T = s.T_WB;
+    traj << toSeconds(s.t) << ' ' << T.p.x() << ' ' << T.p.y() << ' ' << T.p.z() << ' '
+         << T.q.x() << ' ' << T.q.y() << ' ' << T.q.z() << ' ' << T.q.w() << '\n';
+    vel << s.t << ',' << s.v_W.x() << ',' << s.v_W.y() << ',' << s.v_W.z() << '\n';
+    bias << s.t;
+    for (int i = 0; i < 6; ++i) bias << ',' << s.bias[i];
+    bias << '\n';
+    if (r.has_force) {
+      const Vec3 f_body = T.q.conjugate() * s.f_ext_W;  // FORMATS.md: forces in the IMU frame
+      force << s.t << ',' << f_body.x() << ',' << f_body.y() << ',' << f_body.z() << '\n';
+    }
+  }
+  auto timing = openOut(tmp / "timing.csv");
+  timing << "#timestamp [ns],backend [ms],solver_iterations,landmarks,observations,keyframe\n";
+  for (const auto& f : r.timing)
+    timing << f.t << ',' << f.backend_ms << ',' << f.solver_iterations << ',' << f.landmarks << ','
+           << f.observations << ',' << (f.keyframe ? 1 : 0) << '\n';
+  auto cfg = openOut(tmp / "config.yaml");
+  cfg << r.effective_config;
+  for (auto* f : {&traj, &vel, &bias, &timing, &cfg}) {
+    f->close();
+    if (!*f) throw InputError(tmp.string(), 0, "writing results failed (disk full?)");
+  }
+  if (force.is_open()) force.close();
+  fs::remove_all(final_dir, ec);
+  fs::rename(tmp, final_dir, ec);
+  if (ec) throw InputError(final_dir.string(), 0, "cannot move results into place: " + ec.message());
+}
+
+}  // namespace hdvio::run
