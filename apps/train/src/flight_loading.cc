@@ -1,0 +1,45 @@
+#include "hdvio/train/flight_loading.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "hdvio/io/sequence_reader.h"
+
+namespace hdvio::train {
+
+std::string resolvePath(const std::string& root, const std::string& path) {
+  if (root.empty() || path.empty() || path[0] == '/') return path;
+  return root + "/" + path;
+}
+
+std::vector<std::string> splitList(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream ss(list);
+  for (std::string item; std::getline(ss, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+Sequence loadSequence(const std::string& path, const FlightSource& source) {
+  io::ReadOptions options;
+  if (source.thrust_coefficient > 0.0) options.thrust_coefficient = source.thrust_coefficient;
+  if (source.mass > 0.0) options.mass = source.mass;
+  return io::readSequence(resolvePath(source.data_root, path), options);
+}
+
+learned::FlightSamples loadFlight(const std::string& path, const FlightSource& source) {
+  learned::ResampleOptions options;
+  options.rate_hz = source.rate_hz;
+  learned::FlightSamples f = learned::resampleFlight(loadSequence(path, source), options);
+  f.name = path;
+  return f;
+}
+
+learned::FlightSamples fractionOf(const learned::FlightSamples& flight, double begin, double end) {
+  const double n = static_cast<double>(flight.size());
+  return flight.slice(static_cast<std::size_t>(std::floor(begin * n)),
+                      static_cast<std::size_t>(std::floor(end * n)));
+}
+
+}  // namespace hdvio::train

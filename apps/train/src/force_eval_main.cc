@@ -1,0 +1,145 @@
+// hdvio_force_eval: force RMSE (HDVIO Table I) of the thrust model alone, thrust + learned
+// residual (Eigen inference) and, for NeuroBEM files, the NeuroBEM model's own prediction,
+// against the measured total force mass * specific force, in the body frame.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+
+#include <gflags/gflags.h>
+
+#include "hdvio/core/error.h"
+#include "hdvio/io/datasets.h"
+#include "hdvio/learned/force_metrics.h"
+#include "hdvio/learned/tcn_weight_file.h"
+#include "hdvio/train/flight_loading.h"
+
+DEFINE_string(data, "", "comma-separated flights to evaluate");
+DEFINE_string(data_root, "", "prefix for relative --data paths (e.g. ../shared/data)");
+DEFINE_string(weights, "", "TCN weight file (empty: thrust model only)");
+DEFINE_double(thrust_coefficient, 0.0, "N s^2 rad^-2 for rotor-speed datasets (see hdvio_thrust_id)");
+DEFINE_double(mass, 0.0, "kg: read rotor thrust with this mass and report newtons (0: dataset mass "
+                         "for reading, results in m/s^2)");
+DEFINE_double(begin_fraction, 0.0, "evaluate from this fraction of each flight ...");
+DEFINE_double(end_fraction, 1.0, "... up to this fraction");
+DEFINE_double(rate_hz, 100.0, "resampling rate (must match the network's)");
+DEFINE_string(out_csv, "", "optional per-sample CSV: t, measured, thrust, tcn (mass-normalized)");
+
+namespace {
+
+using hdvio::Vec3;
+
+struct Series {
+  std::vector<Vec3> measured, thrust, tcn, neurobem;
+};
+
+bool isNeuroBem(const std::string& path) {
+  return path.size() > 4 && path.substr(path.size() - 4) == ".csv" &&
+         path.find("neurobem") != std::string::npos;
+}
+
+Vec3 neuroBemAt(const std::vector<hdvio::io::NeuroBemForceSample>& s, hdvio::Timestamp t) {
+  auto hi = std::lower_bound(s.begin(), s.end(), t, [](const auto& a, hdvio::Timestamp v) { return a.t < v; });
+  if (hi == s.begin()) return hi->force;
+  if (hi == s.end()) return s.back().force;
+  const auto lo = hi - 1;
+  const double a = static_cast<double>(t - lo->t) / static_cast<double>(hi->t - lo->t);
+  return (1.0 - a) * lo->force + a * hi->force;
+}
+
+void printRow(const char* name, const std::vector<Vec3>& pred, const std::vector<Vec3>& meas, double mass) {
+  const auto r = hdvio::learned::forceRmse(pred, meas, mass);
+  std::printf("| %-28s | %8.4f | %8.4f | %8.4f |\n", name, r.f, r.f_xy, r.f_z);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  gflags::SetUsageMessage(
+      "force RMSE of thrust model, thrust + TCN and NeuroBEM\n"
+      "  hdvio_force_eval --data_root ../shared/data --data neurobem/x.csv --weights m.tcn "
+      "--thrust_coefficient 1.1e-6 --mass 0.772");
+  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  if (FLAGS_data.empty()) {
+    gflags::ShowUsageWithFlagsRestrict(argv[0], "force_eval_main");
+    return hdvio::kExitBadInput;
+  }
+  try {
+    if (!(FLAGS_begin_fraction >= 0.0 && FLAGS_begin_fraction < FLAGS_end_fraction && FLAGS_end_fraction <= 1.0)) {
+      throw hdvio::InputError("", 0, "need 0 <= --begin_fraction < --end_fraction <= 1");
+    }
+    std::optional<hdvio::learned::Tcn> tcn;
+    if (!FLAGS_weights.empty()) {
+      tcn = hdvio::learned::loadTcnWeights(FLAGS_weights);
+      if (std::abs(tcn->architecture().sample_rate_hz - FLAGS_rate_hz) > 1e-6) {
+        throw hdvio::InputError(FLAGS_weights, 0, "network rate differs from --rate_hz");
+      }
+    }
+    hdvio::train::FlightSource source;
+    source.data_root = FLAGS_data_root;
+    source.thrust_coefficient = FLAGS_thrust_coefficient;
+    source.mass = FLAGS_mass;
+    source.rate_hz = FLAGS_rate_hz;
+    const double mass = FLAGS_mass > 0.0 ? FLAGS_mass : 1.0;
+    Series all;
+    bool all_neurobem = true;
+    std::ofstream csv;
+    if (!FLAGS_out_csv.empty()) {
+      csv.open(FLAGS_out_csv);
+      csv << "# t [s], measured xyz, thrust xyz, thrust+tcn xyz [m/s^2, body]\n";
+    }
+    for (const auto& path : hdvio::train::splitList(FLAGS_data)) {
+      const hdvio::learned::FlightSamples f = hdvio::train::loadFlight(path, source);
+      hdvio::learned::MatrixXf residual;
+      if (tcn) {
+        hdvio::learned::MatrixXf x(6, static_cast<long>(f.size()));
+        for (std::size_t k = 0; k < f.size(); ++k) {
+          x.col(k).head<3>() = f.thrust[k].cast<float>();
+          x.col(k).tail<3>() = f.gyro[k].cast<float>();
+        }
+        residual = tcn->forwardSequence(x);
+      }
+      std::vector<hdvio::io::NeuroBemForceSample> nb;
+      const bool neurobem = isNeuroBem(path);
+      all_neurobem = all_neurobem && neurobem;
+      if (neurobem) nb = hdvio::io::readNeuroBemForces(hdvio::train::resolvePath(FLAGS_data_root, path));
+      const int warmup = tcn ? tcn->architecture().window - 1 : 0;
+      const auto n = static_cast<double>(f.size());
+      const std::size_t k0 = std::max<std::size_t>(warmup, static_cast<std::size_t>(FLAGS_begin_fraction * n));
+      const std::size_t k1 = static_cast<std::size_t>(FLAGS_end_fraction * n);
+      Series s;
+      for (std::size_t k = k0; k < k1; ++k) {
+        s.measured.push_back(f.force[k]);
+        s.thrust.push_back(f.thrust[k]);
+        const Vec3 r = tcn ? Vec3(residual.col(k).head<3>().cast<double>()) : Vec3::Zero();
+        s.tcn.push_back(f.thrust[k] + r);
+        if (neurobem) s.neurobem.push_back(neuroBemAt(nb, f.t[k]) / mass);
+        if (csv.is_open()) {
+          csv << hdvio::toSeconds(f.t[k]);
+          for (const Vec3* v : {&f.force[k], &f.thrust[k], static_cast<const Vec3*>(&s.tcn.back())})
+            for (int i = 0; i < 3; ++i) csv << ',' << (*v)(i);
+          csv << '\n';
+        }
+      }
+      if (s.measured.empty()) throw hdvio::InputError(path, 0, "no samples in the evaluated fraction");
+      std::printf("\n%s: %zu samples at %.0f Hz, fraction [%.2f, %.2f)\n", path.c_str(), s.measured.size(),
+                  FLAGS_rate_hz, FLAGS_begin_fraction, FLAGS_end_fraction);
+      std::printf("| %-28s | %8s | %8s | %8s |\n|---|---|---|---|\n", "model", "F", "F_xy", "F_z");
+      printRow("thrust model", s.thrust, s.measured, mass);
+      if (tcn) printRow("thrust + TCN residual", s.tcn, s.measured, mass);
+      if (neurobem) printRow("NeuroBEM (full state)", s.neurobem, s.measured, mass);
+      for (std::vector<Vec3> Series::*v : {&Series::measured, &Series::thrust, &Series::tcn, &Series::neurobem})
+        (all.*v).insert((all.*v).end(), (s.*v).begin(), (s.*v).end());
+    }
+    std::printf("\nall flights: %zu samples, RMSE in %s (body frame)\n", all.measured.size(),
+                FLAGS_mass > 0.0 ? "N" : "m/s^2 (mass-normalized)");
+    std::printf("| %-28s | %8s | %8s | %8s |\n|---|---|---|---|\n", "model", "F", "F_xy", "F_z");
+    printRow("thrust model", all.thrust, all.measured, mass);
+    if (tcn) printRow("thrust + TCN residual", all.tcn, all.measured, mass);
+    if (all_neurobem) printRow("NeuroBEM (full state)", all.neurobem, all.measured, mass);
+  } catch (const hdvio::InputError& e) {
+    std::cerr << "error: " << e.what() << std::endl;
+    return hdvio::kExitBadInput;
+  }
+  return 0;
+}

@@ -1,0 +1,71 @@
+// hdvio_thrust_id: identifies C_T / m (and C_T for a given mass) from rotor speeds and the
+// accelerometer, for datasets that publish no thrust model (DIDO, NeuroBEM).
+#include <cstdio>
+#include <iostream>
+
+#include <gflags/gflags.h>
+
+#include "hdvio/core/error.h"
+#include "hdvio/learned/thrust_identification.h"
+#include "hdvio/train/flight_loading.h"
+
+DEFINE_string(data, "", "comma-separated flights (NeuroBEM .csv, DIDO folder, ASL folder with rotor0)");
+DEFINE_string(data_root, "", "prefix for relative --data paths (e.g. ../shared/data)");
+DEFINE_double(mass, 0.0, "vehicle mass in kg for reporting C_T (0: C_T/m only)");
+DEFINE_bool(fit_drag, false, "also fit linear drag d (drag = -d .* v_body)");
+DEFINE_double(begin_fraction, 0.0, "use rotor samples from this fraction of each flight ...");
+DEFINE_double(end_fraction, 1.0, "... up to this fraction (hold out the rest)");
+
+namespace {
+
+hdvio::Sequence cut(const hdvio::Sequence& s, double begin, double end) {
+  hdvio::Sequence out = s;
+  const std::size_t n = s.rotor.size();
+  out.rotor.assign(s.rotor.begin() + static_cast<long>(begin * n), s.rotor.begin() + static_cast<long>(end * n));
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  gflags::SetUsageMessage(
+      "identify the thrust coefficient from flight data\n"
+      "  hdvio_thrust_id --data_root ../shared/data --data neurobem/a.csv,neurobem/b.csv --mass 0.772");
+  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  if (FLAGS_data.empty()) {
+    gflags::ShowUsageWithFlagsRestrict(argv[0], "thrust_id_main");
+    return hdvio::kExitBadInput;
+  }
+  try {
+    if (!(FLAGS_begin_fraction >= 0.0 && FLAGS_begin_fraction < FLAGS_end_fraction && FLAGS_end_fraction <= 1.0)) {
+      throw hdvio::InputError("", 0, "need 0 <= --begin_fraction < --end_fraction <= 1");
+    }
+    hdvio::Sequence all;
+    hdvio::train::FlightSource source;
+    source.data_root = FLAGS_data_root;
+    for (const auto& path : hdvio::train::splitList(FLAGS_data)) {
+      const hdvio::Sequence s = cut(hdvio::train::loadSequence(path, source), FLAGS_begin_fraction, FLAGS_end_fraction);
+      // Flights are fitted jointly; their clocks may overlap, so each is shifted after the last.
+      const hdvio::Timestamp shift = all.imu.empty() ? 0 : all.imu.back().t + hdvio::kNanosPerSecond - s.imu.front().t;
+      for (auto r : s.rotor) { r.t += shift; all.rotor.push_back(r); }
+      for (auto m : s.imu) { m.t += shift; all.imu.push_back(m); }
+      for (auto g : s.groundtruth) { g.t += shift; all.groundtruth.push_back(g); }
+      std::printf("%s: %zu rotor samples\n", path.c_str(), s.rotor.size());
+    }
+    all.name = "joint fit";
+    hdvio::learned::ThrustFitOptions options;
+    options.fit_linear_drag = FLAGS_fit_drag;
+    const hdvio::learned::ThrustFit fit = hdvio::learned::fitThrust(all, options);
+    std::printf("samples            %zu\n", fit.samples);
+    std::printf("C_T/m              %.6e m s^-2 / (rad/s)^2\n", fit.c_over_m);
+    if (FLAGS_mass > 0.0) std::printf("C_T (m = %.4f kg) %.6e N s^2 rad^-2\n", FLAGS_mass, fit.thrustCoefficient(FLAGS_mass));
+    std::printf("thrust axis        %+.0f %+.0f %+.0f (body)\n", fit.thrust_axis.x(), fit.thrust_axis.y(), fit.thrust_axis.z());
+    if (FLAGS_fit_drag) std::printf("linear drag d      %.4f %.4f %.4f 1/s\n", fit.linear_drag.x(), fit.linear_drag.y(), fit.linear_drag.z());
+    std::printf("RMSE along axis    %.4f m/s^2\n", fit.rmse_axis);
+    std::printf("RMSE 3-D           %.4f m/s^2\n", fit.rmse_total);
+  } catch (const hdvio::InputError& e) {
+    std::cerr << "error: " << e.what() << std::endl;
+    return hdvio::kExitBadInput;
+  }
+  return 0;
+}

@@ -1,0 +1,138 @@
+// hdvio_train: trains the residual-force TCN with libtorch from positions and velocities
+// (HDVIO Eq. 7) and exports it in the Eigen weight format (tcn_weight_file.h).
+#include <filesystem>
+#include <iostream>
+
+#include <gflags/gflags.h>
+
+#include "hdvio/core/config.h"
+#include "hdvio/core/error.h"
+#include "hdvio/learned/tcn_weight_file.h"
+#include "hdvio/learned/torch/trainer.h"
+#include "hdvio/train/flight_loading.h"
+
+DEFINE_string(config, "", "training YAML (config/learned/train_*.yaml)");
+DEFINE_string(out, "", "output weight file (.tcn)");
+DEFINE_string(data_root, "../shared/data", "prefix for relative data paths of the config");
+DEFINE_string(checkpoint_dir, "", "optional folder for checkpoint.pt and best.tcn");
+
+namespace {
+
+using namespace hdvio;
+
+learned::TcnArchitecture readModel(const ConfigReader& m) {
+  learned::TcnArchitecture a;
+  m.readInRange("window", &a.window, 1, 10000, true);
+  m.readInRange("sample_rate_hz", &a.sample_rate_hz, 1.0, 10000.0, true);
+  m.readInRange("kernel_size", &a.kernel_size, 1, 16);
+  std::vector<int> widths, dilations;
+  m.read("widths", &widths);
+  m.read("dilations", &dilations);
+  m.readOptional("variance_head", &a.variance_head);
+  m.finish();
+  if (widths.size() != dilations.size()) {
+    throw InputError(m.file(), 0, "model.widths and model.dilations must have the same length");
+  }
+  for (std::size_t l = 0; l < widths.size(); ++l) a.layers.push_back({widths[l], dilations[l]});
+  try {
+    a.validate();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(m.file(), 0, std::string("model: ") + e.what());
+  }
+  return a;
+}
+
+learned::TrainOptions readTraining(const ConfigReader& t) {
+  learned::TrainOptions o;
+  t.readInRange("segment_seconds", &o.segment_seconds, 0.01, 10.0);
+  t.readInRange("stride_samples", &o.stride_samples, 1, 100000);
+  t.readInRange("batch_size", &o.batch_size, 1, 100000);
+  t.readInRange("learning_rate", &o.learning_rate, 1e-8, 1.0);
+  t.readInRange("max_epochs", &o.max_epochs, 0, 100000);
+  t.readInRange("patience", &o.patience, 1, 100000);
+  t.readInRange("gyro_bias_sigma", &o.gyro_bias_sigma, 0.0, 1.0);
+  t.readInRange("seed", &o.seed, 0, 1 << 30);
+  t.readInRange("threads", &o.threads, 1, 64);
+  t.readInRange("max_minutes", &o.max_minutes, 0.0, 10000.0);
+  t.readInRange("variance_weight", &o.variance_weight, 0.0, 100.0);
+  t.finish();
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  gflags::SetUsageMessage("train the residual-force TCN\n  hdvio_train --config config/learned/train_neurobem.yaml --out neurobem.tcn");
+  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  if (FLAGS_config.empty() || FLAGS_out.empty()) {
+    gflags::ShowUsageWithFlagsRestrict(argv[0], "train_main");
+    return kExitBadInput;
+  }
+  try {
+    const ConfigReader config = ConfigReader::fromFile(FLAGS_config);
+    const ConfigReader data = config.section("data");
+    std::vector<std::string> train_paths, validation_paths;
+    data.read("train", &train_paths);
+    data.readOptional("validation", &validation_paths);
+    double block_seconds = 5.0, thrust_coefficient = 0.0, mass = 0.0;
+    int validation_every = 0;
+    double use_until = 1.0;
+    data.readInRange("use_until", &use_until, 0.05, 1.0);
+    data.readInRange("validation_block_seconds", &block_seconds, 0.5, 1000.0);
+    data.readInRange("validation_every", &validation_every, 0, 1000);
+    data.readInRange("thrust_coefficient", &thrust_coefficient, 0.0, 1.0);
+    data.readInRange("mass", &mass, 0.0, 1000.0);
+    data.finish();
+    const learned::TcnArchitecture arch = readModel(config.section("model"));
+    learned::TrainOptions options = readTraining(config.section("training"));
+    config.finish();
+    if (train_paths.empty()) throw InputError(FLAGS_config, 0, "data.train lists no flights");
+    if (validation_paths.empty() && validation_every < 2) {
+      throw InputError(FLAGS_config, 0, "give data.validation flights or data.validation_every >= 2");
+    }
+    options.checkpoint_dir = FLAGS_checkpoint_dir;
+    if (!options.checkpoint_dir.empty()) std::filesystem::create_directories(options.checkpoint_dir);
+
+    train::FlightSource source;
+    source.data_root = FLAGS_data_root;
+    source.thrust_coefficient = thrust_coefficient;
+    source.mass = mass;
+    source.rate_hz = arch.sample_rate_hz;
+    std::vector<learned::FlightSamples> train_flights, validation_flights;
+    for (const auto& p : train_paths) {
+      // Only [0, use_until) of each flight is used; the rest stays unseen for testing.
+      const learned::FlightSamples f = train::fractionOf(train::loadFlight(p, source), 0.0, use_until);
+      // Without separate validation flights, every validation_every-th block of each training
+      // flight validates (interleaved, so both sets see every phase of the flight).
+      const auto block = static_cast<std::size_t>(block_seconds * arch.sample_rate_hz);
+      for (std::size_t b = 0; b * block < f.size(); ++b) {
+        const bool validate = validation_paths.empty() && b % static_cast<std::size_t>(validation_every) == static_cast<std::size_t>(validation_every / 2);
+        (validate ? validation_flights : train_flights).push_back(f.slice(b * block, (b + 1) * block));
+      }
+      std::cout << p << ": " << f.size() << " samples (" << f.size() / arch.sample_rate_hz << " s)\n";
+    }
+    for (const auto& p : validation_paths) validation_flights.push_back(train::loadFlight(p, source));
+
+    learned::Trainer trainer(arch, options);
+    const learned::TrainingResult result = trainer.train(train_flights, validation_flights, std::cout);
+    const auto& first = result.history.front();
+    const auto& best = result.history[result.best_epoch];
+    std::cout << "best epoch " << result.best_epoch << ": validation loss " << first.validation_loss
+              << " -> " << best.validation_loss << "\n";
+    saveTcnWeights(result.best, FLAGS_out,
+                   "trained by hdvio_train --config " + FLAGS_config + "\nbest epoch " +
+                       std::to_string(result.best_epoch) + ", validation loss " +
+                       std::to_string(best.validation_loss));
+    std::cout << "wrote " << FLAGS_out << "\n";
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << std::endl;
+    return kExitBadInput;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "error: " << e.what() << std::endl;
+    return kExitBadInput;
+  } catch (const std::exception& e) {  // libtorch failures: one line, no partial weight file
+    std::cerr << "error: training failed: " << e.what() << std::endl;
+    return 1;
+  }
+  return 0;
+}

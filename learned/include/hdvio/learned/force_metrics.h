@@ -1,0 +1,22 @@
+#pragma once
+// Force errors as in HDVIO Table I: RMSE of the full force vector (F), of its body-frame xy
+// part (F_xy) and of its body z component (F_z). Inputs are mass-normalized (m/s^2); `mass`
+// converts to newtons (pass 1 to stay mass-normalized).
+#include <vector>
+
+#include "hdvio/core/lie.h"
+
+namespace hdvio::learned {
+
+struct ForceRmse {
+  double f = 0.0;
+  double f_xy = 0.0;
+  double f_z = 0.0;
+  std::size_t samples = 0;
+};
+
+// Throws std::invalid_argument if the sizes differ or are zero.
+ForceRmse forceRmse(const std::vector<Vec3>& predicted, const std::vector<Vec3>& measured,
+                    double mass);
+
+}  // namespace hdvio::learned

@@ -1,0 +1,97 @@
+#pragma once
+// Temporal convolutional network (HDVIO Sec. III-D) evaluated with Eigen, no libtorch.
+//
+// Layout: a stack of causal dilated 1-D convolutions, each followed by GELU (exact erf form,
+// torch.nn.GELU's default), then a pointwise linear head to the 3-D residual force and,
+// optionally, a second pointwise head to its log-variance. A convolution with kernel size k
+// and dilation d computes, for every time step t of its input x (channels x time),
+//   y[t] = b + sum_{j=0..k-1} W_j x[t - (k-1-j) d],   x[s < 0] = 0  (left zero padding),
+// which is torch.nn.Conv1d applied after F.pad(x, ((k-1) d, 0)). The receptive field is
+// 1 + (k-1) * sum(d); the window must be at least that long so that a window's last output
+// does not see padding. Computation is in float, as in training.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hdvio::learned {
+
+using MatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic>;
+using VectorXf = Eigen::Matrix<float, Eigen::Dynamic, 1>;
+
+struct TcnLayerSpec {
+  int out_channels = 0;
+  int dilation = 1;
+};
+
+struct TcnArchitecture {
+  int input_channels = 6;   // thrust (3) and bias-corrected gyroscope (3), body frame
+  int kernel_size = 2;
+  int window = 10;          // samples per input window
+  double sample_rate_hz = 100.0;
+  std::vector<TcnLayerSpec> layers;
+  int output_channels = 3;  // residual force, m/s^2 (mass-normalized), body frame
+  bool variance_head = false;
+
+  int receptiveField() const;
+  // Throws std::invalid_argument naming the first inconsistency.
+  void validate() const;
+  // The paper's network: 4 layers with 64 filters, 3 with 128, kernel 2, dilations
+  // 1,1,2,2 | 1,1,1 -> receptive field 10 = 100 ms at 100 Hz.
+  static TcnArchitecture paper(bool variance_head = false);
+};
+
+struct TcnConvWeights {
+  // out x (kernel_size * in): column block j holds the tap W_j of the formula above (tap k-1
+  // multiplies the current sample). torch's weight[o][i][j] is weight(o, j * in + i).
+  MatrixXf weight;
+  VectorXf bias;
+};
+
+struct TcnWeights {
+  // Inputs are normalized as (x - input_mean) / input_std before the first layer.
+  VectorXf input_mean;
+  VectorXf input_std;
+  std::vector<TcnConvWeights> conv;
+  MatrixXf head_weight;  // output_channels x last width
+  VectorXf head_bias;
+  MatrixXf logvar_weight;  // empty unless variance_head
+  VectorXf logvar_bias;
+};
+
+struct TcnOutput {
+  Eigen::Vector3f force = Eigen::Vector3f::Zero();  // m/s^2, body frame
+  Eigen::Vector3f log_variance = Eigen::Vector3f::Zero();  // only with a variance head
+};
+
+class Tcn {
+ public:
+  // Throws std::invalid_argument if the weights do not fit the architecture or hold NaN/inf.
+  Tcn(TcnArchitecture architecture, TcnWeights weights);
+
+  const TcnArchitecture& architecture() const { return arch_; }
+  const TcnWeights& weights() const { return weights_; }
+  std::size_t parameterCount() const;
+
+  // window: input_channels x architecture().window, oldest sample first, unnormalized.
+  // Evaluates only the time steps the last output depends on.
+  TcnOutput predictWindow(const MatrixXf& window) const;
+
+  // inputs: input_channels x T. Returns (output_channels [+3]) x T, one causal output per step
+  // (steps before the receptive field is filled see zero padding, exactly like torch).
+  MatrixXf forwardSequence(const MatrixXf& inputs) const;
+
+ private:
+  MatrixXf normalize(const MatrixXf& inputs) const;
+
+  TcnArchitecture arch_;
+  TcnWeights weights_;
+  // needed_[l]: the time steps of layer l's output that the window's last output depends on
+  // (ascending, in window coordinates); needed_[layers] = {window - 1}. Fixed at construction.
+  std::vector<std::vector<int>> needed_;
+};
+
+// Exact GELU, x * Phi(x), applied in place (vectorized erf).
+void geluInPlace(MatrixXf* x);
+
+}  // namespace hdvio::learned

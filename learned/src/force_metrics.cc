@@ -1,0 +1,24 @@
+#include "hdvio/learned/force_metrics.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace hdvio::learned {
+
+ForceRmse forceRmse(const std::vector<Vec3>& predicted, const std::vector<Vec3>& measured,
+                    double mass) {
+  if (predicted.size() != measured.size() || predicted.empty()) {
+    throw std::invalid_argument("force RMSE needs two equally long, non-empty series");
+  }
+  double se = 0.0, se_xy = 0.0, se_z = 0.0;
+  for (std::size_t k = 0; k < predicted.size(); ++k) {
+    const Vec3 e = mass * (predicted[k] - measured[k]);
+    se += e.squaredNorm();
+    se_xy += e.head<2>().squaredNorm();
+    se_z += e.z() * e.z();
+  }
+  const double n = static_cast<double>(predicted.size());
+  return {std::sqrt(se / n), std::sqrt(se_xy / n), std::sqrt(se_z / n), predicted.size()};
+}
+
+}  // namespace hdvio::learned

@@ -1,0 +1,284 @@
+#include "hdvio/learned/tcn.h"
+
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+
+#include <unsupported/Eigen/SpecialFunctions>
+
+namespace hdvio::learned {
+namespace {
+
+void require(bool ok, const std::string& problem) {
+  if (!ok) throw std::invalid_argument(problem);
+}
+
+bool allFinite(const MatrixXf& m) { return m.size() == 0 || m.allFinite(); }
+
+void checkShape(const MatrixXf& m, long rows, long cols, const std::string& what) {
+  require(m.rows() == rows && m.cols() == cols,
+          what + " has shape " + std::to_string(m.rows()) + "x" + std::to_string(m.cols()) +
+              ", expected " + std::to_string(rows) + "x" + std::to_string(cols));
+  require(allFinite(m), what + " holds NaN or inf");
+}
+
+// Stacks the taps of a causal dilated convolution for the output steps `out_steps`:
+// block j of column c is the input at out_steps[c] - (k-1-j) d, or zero before the start.
+// column_of[s] is the column of step s in `input` (-1 if not available; never hit when the
+// needed sets are consistent).
+MatrixXf stackTaps(const MatrixXf& input, const std::vector<int>& column_of,
+                   const std::vector<int>& out_steps, int kernel, int dilation) {
+  const long in = input.rows();
+  MatrixXf stacked(kernel * in, static_cast<long>(out_steps.size()));
+  for (std::size_t c = 0; c < out_steps.size(); ++c) {
+    for (int j = 0; j < kernel; ++j) {
+      const int s = out_steps[c] - (kernel - 1 - j) * dilation;
+      auto block = stacked.block(j * in, static_cast<long>(c), in, 1);
+      if (s < 0) {
+        block.setZero();
+      } else {
+        block = input.col(column_of[s]);
+      }
+    }
+  }
+  return stacked;
+}
+
+// y = W s + b for n columns s (K floats each, contiguous), W column-major out x K: a
+// register-blocked kernel (kRows outputs x kCols columns of accumulators) that GCC
+// vectorizes. Requires out % kRows == 0.
+// Exactly kCols columns starting at S, all outputs.
+template <int kRows, int kCols, bool kFma>
+inline __attribute__((always_inline)) void denseColumns(const float* W, const float* b, int out,
+                                                        int K, const float* S, float* Y) {
+  for (int o0 = 0; o0 < out; o0 += kRows) {
+    float acc[kCols][kRows] = {};
+    for (int k = 0; k < K; ++k) {
+      const float* w = W + static_cast<long>(k) * out + o0;
+#pragma GCC unroll 4
+      for (int c = 0; c < kCols; ++c) {
+        const float x = S[static_cast<long>(c) * K + k];
+#pragma GCC unroll 32
+        for (int o = 0; o < kRows; ++o) {
+          if constexpr (kFma) {
+            acc[c][o] = __builtin_fmaf(w[o], x, acc[c][o]);
+          } else {
+            acc[c][o] += w[o] * x;
+          }
+        }
+      }
+    }
+    for (int c = 0; c < kCols; ++c) {
+      float* y = Y + static_cast<long>(c) * out + o0;
+      for (int o = 0; o < kRows; ++o) y[o] = acc[c][o] + b[o0 + o];
+    }
+  }
+}
+
+// Blocks of four columns, then the remainder with a kernel of its exact width (the last
+// layers of a window need only one to three columns).
+template <int kRows, bool kFma>
+inline __attribute__((always_inline)) void denseBody(const float* W, const float* b, int out, int K,
+                                                     const float* S, int n, float* Y) {
+  int c = 0;
+  for (; c + 4 <= n; c += 4) denseColumns<kRows, 4, kFma>(W, b, out, K, S + static_cast<long>(c) * K, Y + static_cast<long>(c) * out);
+  const long so = static_cast<long>(c) * K, yo = static_cast<long>(c) * out;
+  switch (n - c) {
+    case 3: denseColumns<kRows, 3, kFma>(W, b, out, K, S + so, Y + yo); break;
+    case 2: denseColumns<kRows, 2, kFma>(W, b, out, K, S + so, Y + yo); break;
+    case 1: denseColumns<2 * kRows, 1, kFma>(W, b, out, K, S + so, Y + yo); break;
+    default: break;
+  }
+}
+
+void denseDefault(const float* W, const float* b, int out, int K, const float* S, int n, float* Y) {
+  denseBody<8, false>(W, b, out, K, S, n, Y);
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define HDVIO_TCN_AVX2 1
+// The same kernel compiled for AVX2 + FMA, used when the CPU has them (runtime check), so
+// the library itself stays buildable and runnable for plain x86-64.
+__attribute__((target("avx2,fma"))) void denseAvx2(const float* W, const float* b, int out, int K,
+                                                   const float* S, int n, float* Y) {
+  denseBody<16, true>(W, b, out, K, S, n, Y);
+}
+#endif
+
+void denseBlocked(const float* W, const float* b, int out, int K, const float* S, int n, float* Y) {
+#ifdef HDVIO_TCN_AVX2
+  static const bool kHasAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (kHasAvx2) return denseAvx2(W, b, out, K, S, n, Y);
+#endif
+  denseDefault(W, b, out, K, S, n, Y);
+}
+
+// One convolution (or pointwise) layer on stacked taps: W * stacked + b.
+MatrixXf affine(const MatrixXf& W, const VectorXf& b, const MatrixXf& stacked) {
+  MatrixXf y(W.rows(), stacked.cols());
+  if (W.rows() % 32 == 0) {
+    denseBlocked(W.data(), b.data(), static_cast<int>(W.rows()), static_cast<int>(W.cols()),
+                 stacked.data(), static_cast<int>(stacked.cols()), y.data());
+  } else {
+    y.noalias() = W * stacked;
+    y.colwise() += b;
+  }
+  return y;
+}
+
+}  // namespace
+
+int TcnArchitecture::receptiveField() const {
+  int sum = 0;
+  for (const auto& l : layers) sum += l.dilation;
+  return 1 + (kernel_size - 1) * sum;
+}
+
+void TcnArchitecture::validate() const {
+  require(input_channels > 0, "input_channels must be positive");
+  require(kernel_size >= 1 && kernel_size <= 16, "kernel_size must be in [1, 16]");
+  require(window >= 1 && window <= 100000, "window must be in [1, 100000]");
+  require(sample_rate_hz > 0.0 && sample_rate_hz < 1e6, "sample_rate_hz must be positive");
+  require(!layers.empty(), "at least one convolution layer is needed");
+  for (const auto& l : layers) {
+    require(l.out_channels > 0 && l.out_channels <= 4096, "layer width must be in [1, 4096]");
+    require(l.dilation >= 1 && l.dilation <= 4096, "dilation must be in [1, 4096]");
+  }
+  require(output_channels == 3, "output_channels must be 3 (a body-frame force)");
+  require(receptiveField() <= window,
+          "receptive field " + std::to_string(receptiveField()) + " exceeds the window " +
+              std::to_string(window));
+}
+
+TcnArchitecture TcnArchitecture::paper(bool variance_head) {
+  TcnArchitecture a;
+  a.layers = {{64, 1}, {64, 1}, {64, 2}, {64, 2}, {128, 1}, {128, 1}, {128, 1}};
+  a.variance_head = variance_head;
+  return a;
+}
+
+Tcn::Tcn(TcnArchitecture architecture, TcnWeights weights)
+    : arch_(std::move(architecture)), weights_(std::move(weights)) {
+  arch_.validate();
+  const int c_in = arch_.input_channels;
+  checkShape(weights_.input_mean, c_in, 1, "input_mean");
+  checkShape(weights_.input_std, c_in, 1, "input_std");
+  require((weights_.input_std.array() > 0.0f).all(), "input_std must be positive");
+  require(weights_.conv.size() == arch_.layers.size(),
+          "expected " + std::to_string(arch_.layers.size()) + " convolution layers, found " +
+              std::to_string(weights_.conv.size()));
+  int width = c_in;
+  for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
+    const int out = arch_.layers[l].out_channels;
+    const std::string name = "conv " + std::to_string(l);
+    checkShape(weights_.conv[l].weight, out, arch_.kernel_size * width, name + " weight");
+    checkShape(weights_.conv[l].bias, out, 1, name + " bias");
+    width = out;
+  }
+  checkShape(weights_.head_weight, arch_.output_channels, width, "head weight");
+  checkShape(weights_.head_bias, arch_.output_channels, 1, "head bias");
+  if (arch_.variance_head) {
+    checkShape(weights_.logvar_weight, arch_.output_channels, width, "log-variance weight");
+    checkShape(weights_.logvar_bias, arch_.output_channels, 1, "log-variance bias");
+  } else {
+    require(weights_.logvar_weight.size() == 0 && weights_.logvar_bias.size() == 0,
+            "log-variance weights given without a variance head");
+  }
+
+  // Walk back from the last output to the steps each layer must produce.
+  const std::size_t n_layers = arch_.layers.size();
+  needed_.assign(n_layers + 1, {});
+  needed_[n_layers] = {arch_.window - 1};
+  for (std::size_t l = n_layers; l-- > 0;) {
+    std::set<int> steps;
+    for (int t : needed_[l + 1]) {
+      for (int j = 0; j < arch_.kernel_size; ++j) {
+        const int s = t - (arch_.kernel_size - 1 - j) * arch_.layers[l].dilation;
+        if (s >= 0) steps.insert(s);
+      }
+    }
+    needed_[l].assign(steps.begin(), steps.end());
+  }
+}
+
+std::size_t Tcn::parameterCount() const {
+  std::size_t n = 0;
+  for (const auto& c : weights_.conv) n += c.weight.size() + c.bias.size();
+  n += weights_.head_weight.size() + weights_.head_bias.size();
+  n += weights_.logvar_weight.size() + weights_.logvar_bias.size();
+  return n;
+}
+
+MatrixXf Tcn::normalize(const MatrixXf& inputs) const {
+  return ((inputs.colwise() - weights_.input_mean).array().colwise() /
+          weights_.input_std.array())
+      .matrix();
+}
+
+TcnOutput Tcn::predictWindow(const MatrixXf& window) const {
+  if (window.rows() != arch_.input_channels || window.cols() != arch_.window) {
+    throw std::invalid_argument("window has shape " + std::to_string(window.rows()) + "x" +
+                                std::to_string(window.cols()) + ", expected " +
+                                std::to_string(arch_.input_channels) + "x" +
+                                std::to_string(arch_.window));
+  }
+  // Layer input: only the needed columns, with column_of mapping steps to columns.
+  std::vector<int> column_of(arch_.window, -1);
+  MatrixXf x(arch_.input_channels, static_cast<long>(needed_[0].size()));
+  for (std::size_t c = 0; c < needed_[0].size(); ++c) {
+    column_of[needed_[0][c]] = static_cast<int>(c);
+    x.col(static_cast<long>(c)) = window.col(needed_[0][c]);
+  }
+  x = normalize(x);
+  for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
+    const MatrixXf stacked =
+        stackTaps(x, column_of, needed_[l + 1], arch_.kernel_size, arch_.layers[l].dilation);
+    MatrixXf y = affine(weights_.conv[l].weight, weights_.conv[l].bias, stacked);
+    geluInPlace(&y);
+    std::fill(column_of.begin(), column_of.end(), -1);
+    for (std::size_t c = 0; c < needed_[l + 1].size(); ++c) {
+      column_of[needed_[l + 1][c]] = static_cast<int>(c);
+    }
+    x = std::move(y);
+  }
+  // x holds the single last step.
+  TcnOutput out;
+  out.force = weights_.head_weight * x.col(0) + weights_.head_bias;
+  if (arch_.variance_head) out.log_variance = weights_.logvar_weight * x.col(0) + weights_.logvar_bias;
+  return out;
+}
+
+MatrixXf Tcn::forwardSequence(const MatrixXf& inputs) const {
+  if (inputs.rows() != arch_.input_channels) {
+    throw std::invalid_argument("inputs have " + std::to_string(inputs.rows()) +
+                                " channels, expected " + std::to_string(arch_.input_channels));
+  }
+  const int steps = static_cast<int>(inputs.cols());
+  std::vector<int> all(steps), column_of(steps);
+  for (int t = 0; t < steps; ++t) all[t] = column_of[t] = t;
+  MatrixXf x = normalize(inputs);
+  for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
+    const MatrixXf stacked =
+        stackTaps(x, column_of, all, arch_.kernel_size, arch_.layers[l].dilation);
+    MatrixXf y = affine(weights_.conv[l].weight, weights_.conv[l].bias, stacked);
+    geluInPlace(&y);
+    x = std::move(y);
+  }
+  const long rows = arch_.output_channels * (arch_.variance_head ? 2 : 1);
+  MatrixXf out(rows, steps);
+  out.topRows(arch_.output_channels) =
+      (weights_.head_weight * x).colwise() + weights_.head_bias;
+  if (arch_.variance_head) {
+    out.bottomRows(arch_.output_channels) =
+        (weights_.logvar_weight * x).colwise() + weights_.logvar_bias;
+  }
+  return out;
+}
+
+void geluInPlace(MatrixXf* x) {
+  constexpr float kInvSqrt2 = 0.70710678118654752440f;
+  auto a = x->array();
+  a = 0.5f * a * (1.0f + (a * kInvSqrt2).erf());
+}
+
+}  // namespace hdvio::learned

@@ -1,0 +1,41 @@
+#pragma once
+// The TCN of tcn.h as a libtorch module (training only; inference uses the Eigen Tcn).
+// Same layout: left zero padding of (k-1) d, Conv1d with dilation d, exact GELU, pointwise
+// heads implemented as kernel-1 convolutions. exportTcn/importTcn convert weights exactly.
+#include <torch/torch.h>
+
+#include "hdvio/learned/tcn.h"
+
+namespace hdvio::learned {
+
+class TcnModuleImpl : public torch::nn::Module {
+ public:
+  explicit TcnModuleImpl(const TcnArchitecture& architecture);
+
+  // x: batch x input_channels x T (unnormalized) -> batch x (3 [+3 log-variance]) x T.
+  torch::Tensor forward(const torch::Tensor& x);
+
+  const TcnArchitecture& architecture() const { return arch_; }
+  void setNormalization(const torch::Tensor& mean, const torch::Tensor& std);
+
+  std::vector<torch::nn::Conv1d>& convs() { return convs_; }
+  torch::nn::Conv1d& head() { return head_; }
+  torch::nn::Conv1d& logvarHead() { return logvar_; }
+  torch::Tensor& inputMean() { return mean_; }
+  torch::Tensor& inputStd() { return std_; }
+
+ private:
+  TcnArchitecture arch_;
+  std::vector<torch::nn::Conv1d> convs_;
+  torch::nn::Conv1d head_{nullptr};
+  torch::nn::Conv1d logvar_{nullptr};
+  torch::Tensor mean_, std_;  // registered buffers, shape input_channels
+};
+TORCH_MODULE(TcnModule);
+
+// Copies the module's parameters into an Eigen Tcn (float32).
+Tcn exportTcn(TcnModule& module);
+// Loads an Eigen Tcn's weights into a module of the same architecture.
+TcnModule importTcn(const Tcn& tcn);
+
+}  // namespace hdvio::learned

@@ -1,0 +1,107 @@
+#include "hdvio/learned/torch/tcn_module.h"
+
+#include <stdexcept>
+
+namespace hdvio::learned {
+namespace {
+
+MatrixXf toMatrix(const torch::Tensor& t2d) {
+  const torch::Tensor c = t2d.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+  MatrixXf m(c.size(0), c.size(1));
+  const auto a = c.accessor<float, 2>();
+  for (long i = 0; i < m.rows(); ++i)
+    for (long j = 0; j < m.cols(); ++j) m(i, j) = a[i][j];
+  return m;
+}
+
+VectorXf toVector(const torch::Tensor& t1d) { return toMatrix(t1d.reshape({-1, 1})); }
+
+torch::Tensor fromMatrix(const MatrixXf& m) {
+  torch::Tensor t = torch::empty({m.rows(), m.cols()}, torch::kFloat32);
+  auto a = t.accessor<float, 2>();
+  for (long i = 0; i < m.rows(); ++i)
+    for (long j = 0; j < m.cols(); ++j) a[i][j] = m(i, j);
+  return t;
+}
+
+}  // namespace
+
+TcnModuleImpl::TcnModuleImpl(const TcnArchitecture& architecture) : arch_(architecture) {
+  arch_.validate();
+  int width = arch_.input_channels;
+  for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
+    const auto& spec = arch_.layers[l];
+    convs_.push_back(register_module(
+        "conv" + std::to_string(l),
+        torch::nn::Conv1d(torch::nn::Conv1dOptions(width, spec.out_channels, arch_.kernel_size)
+                              .dilation(spec.dilation))));
+    width = spec.out_channels;
+  }
+  head_ = register_module("head", torch::nn::Conv1d(torch::nn::Conv1dOptions(width, arch_.output_channels, 1)));
+  if (arch_.variance_head) {
+    logvar_ = register_module("logvar", torch::nn::Conv1d(torch::nn::Conv1dOptions(width, arch_.output_channels, 1)));
+  }
+  mean_ = register_buffer("input_mean", torch::zeros({arch_.input_channels}));
+  std_ = register_buffer("input_std", torch::ones({arch_.input_channels}));
+}
+
+void TcnModuleImpl::setNormalization(const torch::Tensor& mean, const torch::Tensor& std) {
+  torch::NoGradGuard no_grad;
+  mean_.copy_(mean);
+  std_.copy_(std);
+}
+
+torch::Tensor TcnModuleImpl::forward(const torch::Tensor& x) {
+  namespace F = torch::nn::functional;
+  torch::Tensor h = (x - mean_.view({1, -1, 1})) / std_.view({1, -1, 1});
+  for (std::size_t l = 0; l < convs_.size(); ++l) {
+    const int64_t pad = static_cast<int64_t>(arch_.kernel_size - 1) * arch_.layers[l].dilation;
+    h = torch::gelu(convs_[l]->forward(F::pad(h, F::PadFuncOptions({pad, 0}))));
+  }
+  torch::Tensor out = head_->forward(h);
+  if (arch_.variance_head) out = torch::cat({out, logvar_->forward(h)}, 1);
+  return out;
+}
+
+Tcn exportTcn(TcnModule& module) {
+  torch::NoGradGuard no_grad;
+  const TcnArchitecture& a = module->architecture();
+  TcnWeights w;
+  w.input_mean = toVector(module->inputMean());
+  w.input_std = toVector(module->inputStd());
+  for (auto& conv : module->convs()) {
+    // torch weight [out][in][k] -> Eigen (out, k * in): column j * in + i.
+    const torch::Tensor wt = conv->weight.detach().permute({0, 2, 1}).reshape({conv->weight.size(0), -1});
+    w.conv.push_back({toMatrix(wt), toVector(conv->bias)});
+  }
+  w.head_weight = toMatrix(module->head()->weight.squeeze(2));
+  w.head_bias = toVector(module->head()->bias);
+  if (a.variance_head) {
+    w.logvar_weight = toMatrix(module->logvarHead()->weight.squeeze(2));
+    w.logvar_bias = toVector(module->logvarHead()->bias);
+  }
+  return Tcn(a, std::move(w));
+}
+
+TcnModule importTcn(const Tcn& tcn) {
+  TcnModule module(tcn.architecture());
+  torch::NoGradGuard no_grad;
+  const TcnWeights& w = tcn.weights();
+  module->setNormalization(fromMatrix(w.input_mean).reshape({-1}), fromMatrix(w.input_std).reshape({-1}));
+  const int k = tcn.architecture().kernel_size;
+  for (std::size_t l = 0; l < module->convs().size(); ++l) {
+    auto& conv = module->convs()[l];
+    const long out = conv->weight.size(0), in = conv->weight.size(1);
+    conv->weight.copy_(fromMatrix(w.conv[l].weight).reshape({out, k, in}).permute({0, 2, 1}));
+    conv->bias.copy_(fromMatrix(w.conv[l].bias).reshape({-1}));
+  }
+  module->head()->weight.copy_(fromMatrix(w.head_weight).unsqueeze(2));
+  module->head()->bias.copy_(fromMatrix(w.head_bias).reshape({-1}));
+  if (tcn.architecture().variance_head) {
+    module->logvarHead()->weight.copy_(fromMatrix(w.logvar_weight).unsqueeze(2));
+    module->logvarHead()->bias.copy_(fromMatrix(w.logvar_bias).reshape({-1}));
+  }
+  return module;
+}
+
+}  // namespace hdvio::learned

@@ -1,0 +1,107 @@
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "hdvio/core/error.h"
+#include "hdvio/learned/flight_samples.h"
+#include "hdvio/learned/force_metrics.h"
+#include "hdvio/learned/thrust_identification.h"
+
+namespace hdvio::learned {
+namespace {
+
+// A synthetic 20 s flight at 400 Hz: rotor speeds vary, the accelerometer measures
+// c * sum(w^2) along `axis` minus linear drag on body velocity, plus noise.
+Sequence syntheticFlight(double c, const Vec3& axis, const Vec3& drag, double noise) {
+  Sequence s;
+  s.name = "synthetic";
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n(0.0, noise);
+  for (int k = 0; k < 8000; ++k) {
+    const double t = k / 400.0;
+    const Timestamp ts = fromSeconds(10.0 + t);
+    RotorSample r;
+    r.t = ts;
+    for (int i = 0; i < 4; ++i) r.speeds[i] = 1000.0 + 150.0 * std::sin(0.7 * t + i) + 80.0 * std::sin(3.1 * t);
+    s.rotor.push_back(r);
+    GroundTruthState g;
+    g.t = ts;
+    g.T_WB = Pose(quatExp(Vec3(0.2 * std::sin(0.5 * t), 0.1 * std::cos(0.3 * t), 0.4 * t)),
+                  Vec3(3 * std::sin(0.5 * t), 2 * std::cos(0.4 * t), 1.0));
+    g.v_W = Vec3(1.5 * std::cos(0.5 * t), -0.8 * std::sin(0.4 * t), 0.0);
+    g.has_velocity = true;
+    s.groundtruth.push_back(g);
+    const Vec3 v_body = g.T_WB.q.conjugate() * g.v_W;
+    ImuSample m;
+    m.t = ts;
+    m.gyro = Vec3(0.1, -0.2, 0.4);
+    m.accel = c * r.speeds.squaredNorm() * axis - drag.cwiseProduct(v_body) + Vec3(n(rng), n(rng), n(rng));
+    s.imu.push_back(m);
+  }
+  return s;
+}
+
+TEST(ThrustIdentification, RecoversCoefficient) {
+  const double c = 2.2e-6;
+  const ThrustFit fit = fitThrust(syntheticFlight(c, Vec3::UnitZ(), Vec3::Zero(), 0.3));
+  EXPECT_NEAR(fit.c_over_m, c, 2e-3 * c);
+  EXPECT_EQ(fit.thrust_axis, Vec3::UnitZ());
+  EXPECT_NEAR(fit.rmse_axis, 0.3, 0.03);
+  EXPECT_NEAR(fit.thrustCoefficient(0.5), 0.5 * fit.c_over_m, 1e-15);
+}
+
+TEST(ThrustIdentification, FlipsAxisForZDownImu) {
+  const ThrustFit fit = fitThrust(syntheticFlight(2e-6, -Vec3::UnitZ(), Vec3::Zero(), 0.1));
+  EXPECT_NEAR(fit.c_over_m, 2e-6, 1e-8);
+  EXPECT_EQ(fit.thrust_axis, -Vec3::UnitZ());
+}
+
+TEST(ThrustIdentification, RecoversLinearDrag) {
+  const Vec3 drag(0.4, 0.3, 0.1);
+  ThrustFitOptions o;
+  o.fit_linear_drag = true;
+  const ThrustFit fit = fitThrust(syntheticFlight(2e-6, Vec3::UnitZ(), drag, 0.05), o);
+  EXPECT_NEAR(fit.c_over_m, 2e-6, 2e-8);
+  EXPECT_LT((fit.linear_drag - drag).norm(), 0.02) << fit.linear_drag.transpose();
+  const ThrustFit no_drag = fitThrust(syntheticFlight(2e-6, Vec3::UnitZ(), drag, 0.05));
+  EXPECT_GT(no_drag.rmse_total, 2.0 * fit.rmse_total);
+}
+
+TEST(ThrustIdentification, RejectsSequencesWithoutRotors) {
+  Sequence s = syntheticFlight(2e-6, Vec3::UnitZ(), Vec3::Zero(), 0.1);
+  s.rotor.clear();
+  EXPECT_THROW(fitThrust(s), InputError);
+}
+
+TEST(FlightSamples, ResamplesOnAUniformGrid) {
+  Sequence s = syntheticFlight(2e-6, Vec3::UnitZ(), Vec3::Zero(), 0.0);
+  RotorCalibration cal;
+  cal.mass = 0.5;
+  cal.thrust_coefficient = 1e-6;
+  s.rotor_calibration = cal;
+  const FlightSamples f = resampleFlight(s);
+  EXPECT_EQ(f.size(), 2000u);  // 19.9975 s at 100 Hz
+  EXPECT_EQ(f.t[1] - f.t[0], 10000000);
+  // Sample 10 coincides with rotor/IMU sample 40.
+  EXPECT_LT((f.thrust[10] - thrustFromRotors(cal, s.rotor[40].speeds)).norm(), 1e-9);
+  EXPECT_LT((f.force[10] - s.imu[40].accel).norm(), 1e-9);
+  EXPECT_LT((f.p_W[10] - s.groundtruth[40].T_WB.p).norm(), 1e-12);
+  const FlightSamples part = f.slice(100, 300);
+  EXPECT_EQ(part.size(), 200u);
+  EXPECT_EQ(part.t.front(), f.t[100]);
+  s.rotor_calibration.reset();
+  EXPECT_THROW(resampleFlight(s), InputError);
+}
+
+TEST(ForceMetrics, SplitsXyAndZ) {
+  const std::vector<Vec3> pred{Vec3(1, 0, 0), Vec3(0, 0, 2)};
+  const std::vector<Vec3> meas{Vec3::Zero(), Vec3::Zero()};
+  const ForceRmse r = forceRmse(pred, meas, 2.0);
+  EXPECT_NEAR(r.f, std::sqrt((4.0 + 16.0) / 2.0), 1e-12);
+  EXPECT_NEAR(r.f_xy, std::sqrt(4.0 / 2.0), 1e-12);
+  EXPECT_NEAR(r.f_z, std::sqrt(16.0 / 2.0), 1e-12);
+  EXPECT_THROW(forceRmse(pred, {}, 1.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hdvio::learned
