@@ -5,6 +5,8 @@
 #include <gflags/gflags.h>
 
 #include <chrono>
+#include <filesystem>
+#include <memory>
 #include <cstdio>
 #include <iostream>
 
@@ -12,6 +14,7 @@
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
 #include "hdvio/io/sequence_reader.h"
+#include "hdvio/learned/residual_force_provider.h"
 #include "hdvio/run/result_writer.h"
 
 DEFINE_string(config, "", "experiment YAML (method, backend, run sections)");
@@ -42,16 +45,35 @@ int runMain() {
     run.seed = static_cast<std::uint32_t>(seed);
     r.finish();
   }
+  // hdvio: the learned residual force (residual_force: {type: tcn, weights: ...}); zero if absent.
+  std::shared_ptr<learned::ResidualForceProvider> provider;
+  if (cfg.has("residual_force")) {
+    if (method != VioMethod::kHdvio)
+      throw InputError(FLAGS_config, 0, "residual_force is only used by method hdvio");
+    provider = learned::makeResidualForceProvider(
+        cfg.section("residual_force"),
+        std::filesystem::path(FLAGS_config).parent_path().string());
+  }
   cfg.finish();
 
   const Sequence seq = io::readSequence(FLAGS_dataset);
+  ResidualForceSource residual_force;
+  if (provider) {
+    residual_force = [provider, &seq](Timestamp t_i, Timestamp t_j, const Vec3& gyro_bias) {
+      const Timestamp from = t_i - fromSeconds(provider->historySeconds());
+      const auto inputs = learned::makeDynamicsInputs(seq.imu, seq.thrust, from, t_j);
+      auto forces = std::make_shared<const std::vector<learned::ResidualForce>>(
+          provider->residualForces(inputs, t_i, t_j, gyro_bias));
+      return ResidualForceFn([forces](Timestamp t) { return learned::residualForceAt(*forces, t); });
+    };
+  }
   if (seq.landmark_observations.empty())
     throw InputError(FLAGS_dataset, 0,
                      "no landmark tracks (landmarks0/): this build runs visual methods on simulated "
                      "tracks only; the image frontend is not connected yet");
   std::fprintf(stderr, "hdvio_run: %s on %s (%zu IMU samples, %zu frames)\n", method_name.c_str(),
                seq.name.c_str(), seq.imu.size(), seq.images.size());
-  const VioRunOutput out = runVioOnTracks(seq, options, run);
+  const VioRunOutput out = runVioOnTracks(seq, options, run, residual_force);
 
   run::RunResults results;
   results.states = out.states;

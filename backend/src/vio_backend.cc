@@ -29,7 +29,7 @@ SmootherOptions smootherOptions(const VioBackendOptions& o) {
 }  // namespace
 
 VioBackend::VioBackend(const VioBackendOptions& options, const CameraModel& camera,
-                       const Pose& T_BC, ResidualForceFn residual_force)
+                       const Pose& T_BC, ResidualForceSource residual_force)
     : options_(options),
       camera_(camera),
       T_BC_(T_BC),
@@ -130,8 +130,9 @@ void VioBackend::addInertialFactors(const StateSlot& from, std::uint64_t k, Time
   values->insertVector(B(k), s.bias);
   graph->add(std::make_shared<ImuFactor>(X(i), V(i), B(i), X(k), V(k), B(k), pim));
   if (!usesDynamics(options_.method)) return;
-  const ResidualForceFn force =
-      options_.method == VioMethod::kHdvio ? residual_force_ : ResidualForceFn();
+  const ResidualForceFn force = options_.method == VioMethod::kHdvio && residual_force_
+                                    ? residual_force_(from.t, t, s.bias.head<3>())
+                                    : ResidualForceFn();
   auto pit = std::make_shared<const PreintegratedThrust>(PreintegratedThrust::integrate(
       imu_, thrust_, from.t, t, s.bias, options_.thrust, force));
   values->insertVector(F(k), s.f_ext_W);

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "hdvio/core/error.h"
+
 namespace hdvio {
 
 VioMethod parseVioMethod(const std::string& name) {
@@ -23,9 +25,13 @@ std::string toString(VioMethod method) {
 }
 
 namespace {
-void readVec3(const ConfigReader& c, const std::string& key, Vec3* v) {
+void readVec3(const ConfigReader& c, const std::string& key, Vec3* v, bool positive) {
   std::vector<double> x{v->x(), v->y(), v->z()};
   c.readVector(key, &x, 3);
+  for (double xi : x)
+    if (xi < 0.0 || (positive && xi == 0.0))
+      throw InputError(c.file(), 0, "key '" + (c.path().empty() ? key : c.path() + "." + key) +
+                                        "': values must be " + (positive ? "positive" : "non-negative"));
   *v = Vec3(x[0], x[1], x[2]);
 }
 }  // namespace
@@ -66,13 +72,13 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   c.readChoice("linear_solver", &o.linear_solver,
                {"dense_schur", "sparse_schur", "sparse_normal_cholesky"});
   c.readInRange("max_solver_time_s", &o.max_solver_time_s, 1e-4, 1e4);
-  c.readInRange("gyro_noise_density", &o.imu.gyro_noise_density, 0.0, 1.0);
-  c.readInRange("accel_noise_density", &o.imu.accel_noise_density, 0.0, 10.0);
-  c.readInRange("gyro_random_walk", &o.imu.gyro_random_walk, 0.0, 1.0);
-  c.readInRange("accel_random_walk", &o.imu.accel_random_walk, 0.0, 10.0);
-  readVec3(c, "thrust_noise_density", &o.thrust.thrust_noise_density);
-  c.readInRange("thrust_direction_noise_density", &o.thrust.thrust_direction_noise_density, 0.0, 1.0);
-  readVec3(c, "residual_force_noise_density", &o.thrust.residual_force_noise_density);
+  c.readInRange("gyro_noise_density", &o.imu.gyro_noise_density, 1e-12, 1.0);
+  c.readInRange("accel_noise_density", &o.imu.accel_noise_density, 1e-12, 10.0);
+  c.readInRange("gyro_random_walk", &o.imu.gyro_random_walk, 1e-12, 1.0);
+  c.readInRange("accel_random_walk", &o.imu.accel_random_walk, 1e-12, 10.0);
+  readVec3(c, "thrust_noise_density", &o.thrust.thrust_noise_density, true);
+  c.readInRange("thrust_direction_noise_density", &o.thrust.thrust_direction_noise_density, 1e-12, 1.0);
+  readVec3(c, "residual_force_noise_density", &o.thrust.residual_force_noise_density, false);
   c.readInRange("force_random_walk", &o.dynamics.force_random_walk, 1e-6, 1e3);
   c.readInRange("force_prior_sigma", &o.dynamics.force_prior_sigma, 1e-6, 1e3);
   c.readInRange("init_velocity_sigma", &o.init_velocity_sigma, 1e-6, 100.0);

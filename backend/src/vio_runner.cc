@@ -71,7 +71,8 @@ std::vector<FrameObservations> framesFromTracks(const Sequence& seq, double sigm
 }
 
 VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& options,
-                            const VioRunOptions& run, ResidualForceFn residual_force) {
+                            const VioRunOptions& run,
+                            ResidualForceSource residual_force) {
   if (!seq.camera) throw InputError(seq.source, 0, "sequence has no camera calibration");
   if (seq.imu.empty()) throw InputError(seq.source, 0, "sequence has no IMU data");
   if (usesDynamics(options.method) && seq.thrust.empty())

@@ -4,6 +4,7 @@
 // one of four modes (vio, vimo, vid, hdvio). The window holds the K most recent states and up
 // to L older keyframes; leaving states are Schur-complemented into a prior.
 #include <deque>
+#include <functional>
 #include <map>
 #include <optional>
 #include <vector>
@@ -15,6 +16,13 @@
 #include "hdvio/factors/measurement_steps.h"
 
 namespace hdvio {
+
+// The pluggable residual-force provider of hdvio mode: given an interval and the current gyro
+// bias estimate, the learned residual force (body frame, m/s^2) as a function of time over it.
+// The learned module's providers are adapted to this shape by the apps (backend does not
+// depend on learned/).
+using ResidualForceSource =
+    std::function<ResidualForceFn(Timestamp t_i, Timestamp t_j, const Vec3& gyro_bias)>;
 
 struct FeatureObservation {
   int landmark_id = 0;
@@ -41,7 +49,7 @@ class VioBackend {
  public:
   // residual_force: the learned residual force provider (hdvio mode); null means zero.
   VioBackend(const VioBackendOptions& options, const CameraModel& camera, const Pose& T_BC,
-             ResidualForceFn residual_force = nullptr);
+             ResidualForceSource residual_force = nullptr);
 
   void addImu(const ImuSample& sample);
   void addThrust(const ThrustSample& sample);
@@ -83,7 +91,7 @@ class VioBackend {
   VioBackendOptions options_;
   CameraModel camera_;
   Pose T_BC_;
-  ResidualForceFn residual_force_;
+  ResidualForceSource residual_force_;
   SlidingWindowSmoother smoother_;
   std::vector<ImuSample> imu_;
   std::vector<ThrustSample> thrust_;

@@ -38,6 +38,7 @@ std::vector<FrameObservations> framesFromTracks(const Sequence& seq, double pixe
                                                 std::uint32_t seed);
 
 VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& options,
-                            const VioRunOptions& run, ResidualForceFn residual_force = nullptr);
+                            const VioRunOptions& run,
+                            ResidualForceSource residual_force = nullptr);
 
 }  // namespace hdvio

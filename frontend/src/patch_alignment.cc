@@ -1,0 +1,118 @@
+#include "hdvio/frontend/patch_alignment.h"
+
+#include <cmath>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+namespace hdvio::frontend {
+
+Eigen::Matrix2d affineWarp(const Camera& camera, const Vec2& px_ref, const Vec3& f_ref,
+                           double depth_ref, int level_ref, const Pose& T_cur_ref) {
+  const double offset = kAlignHalf * (1 << level_ref);
+  const Vec3 xyz_ref = f_ref * depth_ref;
+  Vec3 xyz_du = camera.unproject(px_ref + Vec2(offset, 0.0));
+  Vec3 xyz_dv = camera.unproject(px_ref + Vec2(0.0, offset));
+  xyz_du *= xyz_ref.z() / xyz_du.z();
+  xyz_dv *= xyz_ref.z() / xyz_dv.z();
+  Vec2 px_cur, px_du, px_dv;
+  Eigen::Matrix2d A = Eigen::Matrix2d::Identity();
+  if (!camera.project(T_cur_ref * xyz_ref, &px_cur) || !camera.project(T_cur_ref * xyz_du, &px_du) ||
+      !camera.project(T_cur_ref * xyz_dv, &px_dv))
+    return A;
+  // Columns: level-0 pixels in the current image per pixel of the reference level (SVO), so
+  // det(A) ~ 4^level_ref without motion and the search level follows the reference level.
+  A.col(0) = (px_du - px_cur) / kAlignHalf;
+  A.col(1) = (px_dv - px_cur) / kAlignHalf;
+  return A;
+}
+
+int bestSearchLevel(const Eigen::Matrix2d& A, int max_level) {
+  double d = A.determinant();
+  int level = 0;
+  while (d > 3.0 && level < max_level) {
+    ++level;
+    d *= 0.25;
+  }
+  return level;
+}
+
+bool warpPatch(const Eigen::Matrix2d& A_cur_ref, const cv::Mat& ref_img, const Vec2& px_ref,
+               int level_ref, int search_level, BorderedPatch* patch) {
+  if (std::abs(A_cur_ref.determinant()) < 1e-6) return false;
+  const Eigen::Matrix2f A_ref_cur = A_cur_ref.inverse().cast<float>();
+  const Eigen::Vector2f center = px_ref.cast<float>() / static_cast<float>(1 << level_ref);
+  const float search_scale = static_cast<float>(1 << search_level);
+  constexpr int kHalf = kBorderedPatch / 2;
+  for (int y = 0, k = 0; y < kBorderedPatch; ++y) {
+    for (int x = 0; x < kBorderedPatch; ++x, ++k) {
+      const Eigen::Vector2f offset(static_cast<float>(x - kHalf) * search_scale,
+                                   static_cast<float>(y - kHalf) * search_scale);
+      const Eigen::Vector2f p = center + A_ref_cur * offset;
+      if (p.x() < 0.f || p.y() < 0.f || p.x() >= ref_img.cols - 1 || p.y() >= ref_img.rows - 1)
+        return false;
+      (*patch)[k] = interpolate(ref_img, p.x(), p.y());
+    }
+  }
+  return true;
+}
+
+bool align2D(const cv::Mat& img, const BorderedPatch& ref, int max_iterations, Vec2* px) {
+  constexpr int kB = kBorderedPatch;
+  // Gradients of the reference patch interior and the 3x3 Gauss-Newton matrix (fixed).
+  float gx[kAlignPatch * kAlignPatch], gy[kAlignPatch * kAlignPatch];
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (int y = 0, k = 0; y < kAlignPatch; ++y) {
+    for (int x = 0; x < kAlignPatch; ++x, ++k) {
+      const int i = (y + 1) * kB + x + 1;
+      gx[k] = 0.5f * (ref[i + 1] - ref[i - 1]);
+      gy[k] = 0.5f * (ref[i + kB] - ref[i - kB]);
+      const Eigen::Vector3d J(gx[k], gy[k], 1.0);
+      H += J * J.transpose();
+    }
+  }
+  const Eigen::LDLT<Eigen::Matrix3d> solver(H);
+  if (solver.info() != Eigen::Success || std::abs(H.determinant()) < 1e-3) return false;
+  double u = px->x(), v = px->y(), offset = 0.0;
+  for (int it = 0; it < max_iterations; ++it) {
+    if (u < kAlignHalf + 1 || v < kAlignHalf + 1 || u >= img.cols - kAlignHalf - 2 ||
+        v >= img.rows - kAlignHalf - 2)
+      return false;
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    for (int y = 0, k = 0; y < kAlignPatch; ++y) {
+      for (int x = 0; x < kAlignPatch; ++x, ++k) {
+        const double r = interpolate(img, static_cast<float>(u - kAlignHalf + x),
+                                     static_cast<float>(v - kAlignHalf + y)) -
+                         ref[(y + 1) * kB + x + 1] - offset;
+        b += r * Eigen::Vector3d(gx[k], gy[k], 1.0);
+      }
+    }
+    const Eigen::Vector3d d = solver.solve(b);
+    if (!d.allFinite()) return false;
+    u -= d.x();
+    v -= d.y();
+    offset += d.z();
+    if (d.head<2>().squaredNorm() < 0.03 * 0.03) {
+      *px = Vec2(u, v);
+      return true;
+    }
+  }
+  return false;
+}
+
+double zmssd(const cv::Mat& img, const BorderedPatch& ref, int x0, int y0) {
+  double sum_ref = 0.0, sum_cur = 0.0, sum_sq = 0.0;
+  for (int y = 0; y < kAlignPatch; ++y) {
+    const unsigned char* row = img.ptr<unsigned char>(y0 - kAlignHalf + y) + x0 - kAlignHalf;
+    for (int x = 0; x < kAlignPatch; ++x) {
+      const double a = ref[(y + 1) * kBorderedPatch + x + 1], c = row[x];
+      sum_ref += a;
+      sum_cur += c;
+      sum_sq += (c - a) * (c - a);
+    }
+  }
+  const double n = kAlignPatch * kAlignPatch;
+  return sum_sq - (sum_cur - sum_ref) * (sum_cur - sum_ref) / n;
+}
+
+}  // namespace hdvio::frontend

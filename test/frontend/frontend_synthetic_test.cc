@@ -1,0 +1,129 @@
+// The whole frontend on a rendered flight through the textured room: tracking, keyframes,
+// depth filters turning into landmarks, tracking-loss detection and re-initialization.
+#include <gtest/gtest.h>
+
+#include "hdvio/core/error.h"
+#include "hdvio/frontend/semi_direct_frontend.h"
+#include "synthetic_room.h"
+
+namespace hdvio::frontend {
+namespace {
+
+// Body = camera rotated (T_BS is not identity, as on real rigs).
+Pose bodyToCameraExtrinsics() { return Pose(quatExp(Vec3(0.0, 0.0, M_PI / 2)), Vec3(0.02, -0.01, 0.0)); }
+
+Pose cameraPoseAt(int k) {  // 20 Hz; ~0.8 m/s sideways/forward with yaw and some pitch motion
+  const double s = 0.05 * k;
+  return test::lookingForward(Vec3(-2.0 + 0.3 * s, 0.8 - 0.7 * s, 1.3 + 0.1 * std::sin(2.0 * s)),
+                              0.25 - 0.15 * s, 0.2 + 0.05 * std::sin(3.0 * s));
+}
+
+class FrontendSyntheticFlight : public ::testing::Test {
+ protected:
+  FrontendSyntheticFlight() : camera_(Camera::fromCalibration(calibration())) {}
+  static CameraCalibration calibration() {
+    CameraCalibration c = test::syntheticCalibration();
+    c.T_BS = bodyToCameraExtrinsics();
+    return c;
+  }
+  Pose bodyPose(int k) const { return cameraPoseAt(k) * calibration().T_BS.inverse(); }
+  ImageFrame image(int k) const {
+    return {1'000'000'000LL + k * 50'000'000LL, room_.render(camera_, cameraPoseAt(k))};
+  }
+  TrackingPrior prior(const SemiDirectFrontend& fe, int k) const {
+    TrackingPrior p;
+    if (k > 0) p.q_prev_cur = bodyPose(k - 1).q.conjugate() * bodyPose(k).q;
+    if (fe.wantsPosePrior()) p.T_WB = bodyPose(k);  // stands in for the backend
+    return p;
+  }
+  test::SyntheticRoom room_;
+  Camera camera_;
+};
+
+TEST_F(FrontendSyntheticFlight, TracksEveryImageAndConvergesNewLandmarks) {
+  SemiDirectFrontend fe(calibration());
+  int keyframes = 0, converged_new = 0, gt_priors = 0;
+  double max_pos_err = 0.0, max_rot_err_deg = 0.0;
+  constexpr int kFrames = 40;
+  for (int k = 0; k < kFrames; ++k) {
+    gt_priors += fe.wantsPosePrior();
+    const FrameResult r = fe.track(image(k), prior(fe, k));
+    ASSERT_TRUE(r.tracked) << "image " << k;
+    EXPECT_FALSE(r.reinitialized);
+    EXPECT_GE(r.tracked_features, 50) << "image " << k;
+    if (r.keyframe) {
+      ++keyframes;
+      for (const auto& lm : r.keyframe->new_landmarks) converged_new += lm.converged;
+      EXPECT_EQ(r.keyframe->keyframe_id, r.frame_id);
+    }
+    max_pos_err = std::max(max_pos_err, (r.T_WB.p - bodyPose(k).p).norm());
+    max_rot_err_deg =
+        std::max(max_rot_err_deg, quatLog(r.T_WB.q.conjugate() * bodyPose(k).q).norm() * 180 / M_PI);
+  }
+  EXPECT_EQ(fe.stage(), TrackingStage::kTracking);
+  EXPECT_LE(gt_priors, FrontendOptions().bootstrap_max_frames + 1);
+  EXPECT_GE(keyframes, 2);          // the first one and at least one as the camera travels
+  EXPECT_GT(converged_new, 50);     // depth filters became landmarks
+  EXPECT_LT(max_pos_err, 0.05);     // m, over a 1.5 m flight
+  EXPECT_LT(max_rot_err_deg, 0.5);
+}
+
+TEST_F(FrontendSyntheticFlight, DetectsLossAndReinitializes) {
+  FrontendOptions options;
+  SemiDirectFrontend fe(calibration(), options);
+  for (int k = 0; k < 12; ++k) ASSERT_TRUE(fe.track(image(k), prior(fe, k)).tracked);
+  ASSERT_EQ(fe.stage(), TrackingStage::kTracking);
+  // The lens is covered: nothing can be tracked.
+  const cv::Mat blank(480, 752, CV_8UC1, cv::Scalar(90));
+  int k = 12;
+  FrameResult r = fe.track({image(k).t, blank}, prior(fe, k));
+  EXPECT_FALSE(r.tracked);
+  EXPECT_EQ(r.stage, TrackingStage::kRelocalizing);
+  for (++k; k < 12 + options.max_relocalization_frames + 1; ++k)
+    r = fe.track({image(k).t, blank}, prior(fe, k));
+  EXPECT_FALSE(r.tracked);
+  EXPECT_EQ(r.stage, TrackingStage::kInitializing);  // gave up relocalizing; map discarded
+  EXPECT_TRUE(fe.map().landmarks.empty());
+  EXPECT_TRUE(fe.wantsPosePrior());
+  // The view comes back: the frontend builds a new map from the (backend) pose prior.
+  r = fe.track(image(k), prior(fe, k));
+  EXPECT_TRUE(r.tracked);
+  EXPECT_TRUE(r.keyframe.has_value());
+  EXPECT_LT((r.T_WB.p - bodyPose(k).p).norm(), 1e-9);
+  for (++k; k < 30; ++k) {
+    r = fe.track(image(k), prior(fe, k));
+    EXPECT_TRUE(r.tracked) << "image " << k;
+  }
+  EXPECT_LT((r.T_WB.p - bodyPose(k - 1).p).norm(), 0.05);
+}
+
+TEST_F(FrontendSyntheticFlight, FollowsTheBackendsCorrections) {
+  SemiDirectFrontend fe(calibration());
+  int k = 0;
+  for (; k < 15; ++k) ASSERT_TRUE(fe.track(image(k), prior(fe, k)).tracked);
+  ASSERT_EQ(fe.stage(), TrackingStage::kTracking);
+  // The backend moved the whole map by 0.5 m (e.g. a new gauge): keyframes and landmarks.
+  const Pose shift(Quat::Identity(), Vec3(0.5, -0.2, 0.1));
+  BackendEstimate estimate;
+  for (const FramePtr& kf : fe.map().keyframes)
+    estimate.keyframe_T_WB[kf->id] = shift * (kf->T_cw.inverse() * calibration().T_BS.inverse());
+  for (const auto& [id, lm] : fe.map().landmarks) estimate.landmark_p_W[id] = shift * lm->p_w;
+  fe.applyBackendEstimate(estimate);
+  for (; k < 22; ++k) {
+    const FrameResult r = fe.track(image(k), prior(fe, k));
+    ASSERT_TRUE(r.tracked);
+    EXPECT_LT((r.T_WB.p - (shift * bodyPose(k)).p).norm(), 0.03) << "image " << k;
+  }
+}
+
+TEST_F(FrontendSyntheticFlight, RejectsBadImages) {
+  SemiDirectFrontend fe(calibration());
+  EXPECT_THROW(fe.track({0, cv::Mat()}), InputError);
+  EXPECT_THROW(fe.track({0, cv::Mat(100, 100, CV_8UC1, cv::Scalar(0))}), InputError);
+  EXPECT_THROW(fe.track({0, cv::Mat(480, 752, CV_32FC1, cv::Scalar(0))}), InputError);
+  fe.track(image(1));
+  EXPECT_THROW(fe.track(image(0)), InputError);  // time went backwards
+}
+
+}  // namespace
+}  // namespace hdvio::frontend
