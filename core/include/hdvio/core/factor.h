@@ -66,15 +66,18 @@ class FactorT : public Factor {
 
   FactorT(const std::array<Key, kNumVars>& keys, NoiseModelPtr noise)
       : Factor(std::vector<Key>(keys.begin(), keys.end()), std::move(noise)),
-        cost_(std::make_unique<Cost>(static_cast<const Derived*>(this))) {}
+        cost_(std::make_unique<Cost>(this)) {}
 
   ceres::CostFunction* costFunction() const override { return cost_.get(); }
 
  private:
   class Cost : public ceres::SizedCostFunction<kDim, Vars::kAmbient...> {
    public:
-    explicit Cost(const Derived* factor) : factor_(factor) {}
+    // Holds the base pointer: the derived object does not exist yet while FactorT is built, so
+    // the downcast happens only in Evaluate.
+    explicit Cost(const FactorT* factor) : factor_(factor) {}
     bool Evaluate(double const* const* x, double* residual, double** jacobians) const override {
+      const Derived& derived = static_cast<const Derived&>(*factor_);
       constexpr int kTangentTotal = (Vars::kTangent + ...);
       std::array<double, kDim * kTangentTotal> tangent_storage;
       std::array<double*, kNumVars> tangent{};
@@ -83,7 +86,7 @@ class FactorT : public Factor {
         tangent[i] = (jacobians && jacobians[i]) ? tangent_storage.data() + offset : nullptr;
         offset += kDim * kTangent[i];
       }
-      if (!factor_->evaluateError(x, residual, jacobians ? tangent.data() : nullptr)) return false;
+      if (!derived.evaluateError(x, residual, jacobians ? tangent.data() : nullptr)) return false;
       const NoiseModel& noise = factor_->noiseModel();
       noise.whitenResidual(residual);
       if (!jacobians) return true;
@@ -113,7 +116,7 @@ class FactorT : public Factor {
         Ja.noalias() = Jt * L;
       }
     }
-    const Derived* factor_;
+    const FactorT* factor_;
   };
 
   std::unique_ptr<Cost> cost_;
