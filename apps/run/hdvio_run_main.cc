@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <memory>
 #include <cstdio>
-#include <iostream>
 
 #include "hdvio/backend/vio_runner.h"
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/io/sequence_reader.h"
 #include "hdvio/learned/residual_force_provider.h"
 #include "hdvio/run/result_writer.h"
@@ -32,12 +32,10 @@ int runMain() {
   std::string method_name;
   cfg.readChoice("method", &method_name, {"vio", "vimo", "vid", "hdvio"}, true);
   const VioMethod method = parseVioMethod(method_name);
-  const VioBackendOptions options = cfg.has("backend")
-                                        ? loadVioBackendOptions(cfg.section("backend"), method)
-                                        : defaultVioBackendOptions(method);
+  const VioBackendOptions options = loadVioBackendOptions(cfg.optionalSection("backend"), method);
   VioRunOptions run;
-  if (cfg.has("run")) {
-    const ConfigReader r = cfg.section("run");
+  {
+    const ConfigReader r = cfg.optionalSection("run");
     r.readOptional("init_from_groundtruth", &run.init_from_groundtruth);
     r.readInRange("pixel_noise_sigma", &run.pixel_noise_sigma, 0.0, 100.0);
     int seed = static_cast<int>(run.seed);
@@ -57,11 +55,12 @@ int runMain() {
   cfg.finish();
 
   const Sequence seq = io::readSequence(FLAGS_dataset);
+  const std::vector<ThrustSample> thrust = thrustSamples(seq);
   ResidualForceSource residual_force;
   if (provider) {
-    residual_force = [provider, &seq](Timestamp t_i, Timestamp t_j, const Vec3& gyro_bias) {
+    residual_force = [provider, &seq, &thrust](Timestamp t_i, Timestamp t_j, const Vec3& gyro_bias) {
       const Timestamp from = t_i - fromSeconds(provider->historySeconds());
-      const auto inputs = learned::makeDynamicsInputs(seq.imu, seq.thrust, from, t_j);
+      const auto inputs = learned::makeDynamicsInputs(seq.imu, thrust, from, t_j);
       auto forces = std::make_shared<const std::vector<learned::ResidualForce>>(
           provider->residualForces(inputs, t_i, t_j, gyro_bias));
       return ResidualForceFn([forces](Timestamp t) { return learned::residualForceAt(*forces, t); });
@@ -96,10 +95,5 @@ int runMain() {
 int main(int argc, char** argv) {
   gflags::SetUsageMessage("hdvio_run --config <yaml> --dataset <path> --out <dir>");
   gflags::ParseCommandLineFlags(&argc, &argv, true);
-  try {
-    return hdvio::runMain();
-  } catch (const hdvio::InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return hdvio::kExitBadInput;
-  }
+  return hdvio::runTool(hdvio::runMain);
 }

@@ -75,7 +75,8 @@ VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& option
                             ResidualForceSource residual_force) {
   if (!seq.camera) throw InputError(seq.source, 0, "sequence has no camera calibration");
   if (seq.imu.empty()) throw InputError(seq.source, 0, "sequence has no IMU data");
-  if (usesDynamics(options.method) && seq.thrust.empty())
+  const std::vector<ThrustSample> thrust = thrustSamples(seq);
+  if (usesDynamics(options.method) && thrust.empty())
     throw InputError(seq.source, 0, "method '" + toString(options.method) +
                                         "' needs thrust (thrust0 or rotor0 with calibration)");
   const auto frames = framesFromTracks(seq, run.pixel_noise_sigma, run.seed);
@@ -93,8 +94,8 @@ VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& option
   std::size_t imu_next = 0, thrust_next = 0;
   const auto feed_until = [&](Timestamp t) {
     while (imu_next < seq.imu.size() && seq.imu[imu_next].t <= t) backend.addImu(seq.imu[imu_next++]);
-    while (thrust_next < seq.thrust.size() && seq.thrust[thrust_next].t <= t)
-      backend.addThrust(seq.thrust[thrust_next++]);
+    while (thrust_next < thrust.size() && thrust[thrust_next].t <= t)
+      backend.addThrust(thrust[thrust_next++]);
   };
   const auto start = std::chrono::steady_clock::now();
   for (const auto& frame : frames) {

@@ -211,6 +211,14 @@ ConfigReader ConfigReader::section(const std::string& key) const {
   return ConfigReader(state_, n, eff[key], keyPath(key));
 }
 
+ConfigReader ConfigReader::optionalSection(const std::string& key) const {
+  if (has(key)) return section(key);
+  state_->used[path_].insert(key);
+  YAML::Node eff = effective_;
+  eff[key] = YAML::Node(YAML::NodeType::Map);
+  return ConfigReader(state_, YAML::Node(YAML::NodeType::Map), eff[key], keyPath(key));
+}
+
 std::vector<ConfigReader> ConfigReader::list(const std::string& key) const {
   const YAML::Node n = lookup(key, true);
   if (!n.IsSequence()) fail(n, key, "expected a list");

@@ -32,6 +32,9 @@ class ConfigReader {
                   const std::vector<std::string>& choices, bool required = false) const;
 
   ConfigReader section(const std::string& key) const;  // nested map, required
+  // Nested map if present, else an empty one, so every default read from it is still written
+  // to the effective configuration.
+  ConfigReader optionalSection(const std::string& key) const;
   std::vector<ConfigReader> list(const std::string& key) const;  // sequence of maps, required
 
   // Throws InputError naming every key of this map that was never read.

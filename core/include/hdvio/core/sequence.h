@@ -114,4 +114,16 @@ struct Sequence {
   bool hasGroundTruth() const { return !groundtruth.empty(); }
 };
 
+// The thrust channel of a sequence: thrust0 if present, else computed from rotor speeds as
+// thrust_coefficient / mass * sum(w_i^2) along the thrust axis (FORMATS.md); empty if neither.
+inline std::vector<ThrustSample> thrustSamples(const Sequence& seq) {
+  if (!seq.thrust.empty() || seq.rotor.empty() || !seq.rotor_calibration) return seq.thrust;
+  const RotorCalibration& c = *seq.rotor_calibration;
+  std::vector<ThrustSample> out;
+  out.reserve(seq.rotor.size());
+  for (const RotorSample& r : seq.rotor)
+    out.push_back({r.t, c.thrust_coefficient / c.mass * r.speeds.squaredNorm() * c.thrust_axis});
+  return out;
+}
+
 }  // namespace hdvio

@@ -1,0 +1,119 @@
+// hdvio_run end to end on a tiny simulated flight: results and their formats, and one clear
+// error with exit code 2 for bad experiments and for sequences that lack what a method needs.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hdvio/core/config.h"
+#include "hdvio/io/asl.h"
+#include "hdvio/sim/simulator.h"
+
+namespace hdvio {
+namespace {
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code = -1;
+  std::string output;
+};
+
+Outcome run(const std::string& args) {
+  const std::string cmd = std::string(HDVIO_RUN_BINARY) + " " + args + " 2>&1";
+  Outcome o;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::array<char, 512> buf{};
+  while (pipe && fgets(buf.data(), buf.size(), pipe)) o.output += buf.data();
+  const int status = pipe ? pclose(pipe) : -1;
+  o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return o;
+}
+
+class HdvioRun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / "hdvio_run_test";
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    auto config = sim::loadSimConfig(
+        ConfigReader::fromFile(std::string(HDVIO_SOURCE_DIR) + "/config/sim/ci_tiny.yaml"));
+    config.camera.rate_hz = 20.0;
+    const auto result = sim::Simulator(config).simulate();
+    io::writeAsl(result.sequence, (dir_ / "seq").string());
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static std::string writeConfig(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  static fs::path dir_;
+};
+fs::path HdvioRun::dir_;
+
+TEST_F(HdvioRun, WritesResultsInTheDocumentedFormats) {
+  const std::string cfg = writeConfig("vimo.yaml", "method: vimo\nrun: {init_from_groundtruth: true}\n");
+  const fs::path out = dir_ / "out_vimo";
+  const Outcome o = run("--config " + cfg + " --dataset " + (dir_ / "seq").string() + " --out " + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  for (const char* f : {"stamped_traj_estimate.txt", "stamped_velocity_estimate.csv",
+                        "stamped_bias_estimate.csv", "stamped_force_estimate.csv", "timing.csv",
+                        "config.yaml"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  std::ifstream traj(out / "stamped_traj_estimate.txt");
+  std::string header, line;
+  std::getline(traj, header);
+  EXPECT_EQ(header, "# timestamp[s] tx ty tz qx qy qz qw");
+  int rows = 0;
+  while (std::getline(traj, line)) {
+    std::istringstream ss(line);
+    double v[8];
+    for (double& x : v) ASSERT_TRUE(ss >> x) << line;
+    EXPECT_NEAR(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7], 1.0, 1e-6);
+    ++rows;
+  }
+  EXPECT_GT(rows, 40);
+  std::ifstream cfg_out(out / "config.yaml");
+  std::stringstream eff;
+  eff << cfg_out.rdbuf();
+  EXPECT_NE(eff.str().find("num_keyframes: 10"), std::string::npos) << "defaults are written";
+}
+
+TEST_F(HdvioRun, BadExperimentsAndMissingSensorsAreClearErrors) {
+  const std::string seq = (dir_ / "seq").string();
+  const std::string typo = writeConfig("typo.yaml", "method: vio\nbackend:\n  num_keyframe: 10\n");
+  Outcome o = run("--config " + typo + " --dataset " + seq + " --out " + (dir_ / "o1").string());
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("typo.yaml:3: key 'backend.num_keyframe': unknown key"), std::string::npos)
+      << o.output;
+  EXPECT_FALSE(fs::exists(dir_ / "o1"));
+
+  const std::string bad_method = writeConfig("m.yaml", "method: slam\n");
+  o = run("--config " + bad_method + " --dataset " + seq + " --out " + (dir_ / "o2").string());
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("'slam' is not one of"), std::string::npos) << o.output;
+
+  // hdvio needs thrust: a copy of the sequence without thrust0 and rotor0.
+  const fs::path no_thrust = dir_ / "no_thrust";
+  fs::copy(seq, no_thrust, fs::copy_options::recursive);
+  fs::remove_all(no_thrust / "mav0" / "thrust0");
+  fs::remove_all(no_thrust / "mav0" / "rotor0");
+  const std::string hdvio = writeConfig("h.yaml", "method: hdvio\n");
+  o = run("--config " + hdvio + " --dataset " + no_thrust.string() + " --out " + (dir_ / "o3").string());
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("needs thrust"), std::string::npos) << o.output;
+  EXPECT_FALSE(fs::exists(dir_ / "o3"));
+
+  // Never deletes a folder it did not write.
+  fs::create_directories(dir_ / "precious");
+  std::ofstream(dir_ / "precious" / "notes.txt") << "keep";
+  o = run("--config " + hdvio + " --dataset " + seq + " --out " + (dir_ / "precious").string());
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_TRUE(fs::exists(dir_ / "precious" / "notes.txt"));
+}
+
+}  // namespace
+}  // namespace hdvio
