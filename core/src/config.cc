@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -93,6 +94,24 @@ YAML::Node toYaml(const std::vector<double>& v) {
   return n;
 }
 
+// yaml-cpp keeps every entry of a map but answers lookups with the first one, so a repeated
+// key would silently win or lose: reject it, naming both lines.
+void rejectDuplicateKeys(const YAML::Node& node, const std::string& file) {
+  if (node.IsMap()) {
+    std::map<std::string, long> seen;
+    for (const auto& kv : node) {
+      const std::string key = kv.first.Scalar();
+      const auto [it, inserted] = seen.emplace(key, lineOf(kv.first));
+      if (!inserted)
+        throw InputError(file, lineOf(kv.first), "key '" + key + "' repeats the one on line " +
+                                                     std::to_string(it->second));
+      rejectDuplicateKeys(kv.second, file);
+    }
+  } else if (node.IsSequence()) {
+    for (const auto& item : node) rejectDuplicateKeys(item, file);
+  }
+}
+
 }  // namespace
 
 ConfigReader::ConfigReader(std::shared_ptr<State> state, YAML::Node node, YAML::Node effective,
@@ -108,6 +127,7 @@ ConfigReader ConfigReader::fromString(const std::string& yaml, const std::string
   }
   if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) throw InputError(name, lineOf(root), "expected a map of keys at top level");
+  rejectDuplicateKeys(root, name);
   auto state = std::make_shared<State>();
   state->file = name;
   state->effective_root = YAML::Node(YAML::NodeType::Map);

@@ -65,6 +65,13 @@ TEST(Config, WrongTypeAndRangeAndChoiceAreErrors) {
   EXPECT_THAT(errorOf([&] { cfg.read("absent", &x); }), HasSubstr("required key is missing"));
 }
 
+TEST(Config, RepeatedKeysAreErrors) {
+  EXPECT_EQ(errorOf([] { ConfigReader::fromString("a: 1\nsub:\n  b: 2\n  b: 3\n", "d.yaml"); }),
+            "d.yaml:4: key 'b' repeats the one on line 3");
+  EXPECT_EQ(errorOf([] { ConfigReader::fromString("a: 1\na: 2\n", "d.yaml"); }),
+            "d.yaml:2: key 'a' repeats the one on line 1");
+}
+
 TEST(Config, ListsOfMapsAndParseErrors) {
   auto cfg = ConfigReader::fromString("events:\n  - {t: 1.0}\n  - {t: 2.0, bad: 1}\n", "l.yaml");
   auto events = cfg.list("events");
