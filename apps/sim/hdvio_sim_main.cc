@@ -13,6 +13,7 @@
 
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/sim/simulator.h"
 
@@ -82,14 +83,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", gflags::ProgramUsage());
     return hdvio::kExitBadInput;
   }
-  try {
+  return hdvio::runTool([&] {
     runNamingScenario();
-  } catch (const hdvio::InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return hdvio::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/io/sequence_reader.h"
 
@@ -25,7 +26,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", gflags::ProgramUsage());
     return hdvio::kExitBadInput;
   }
-  try {
+  return hdvio::runTool([&] {
     const fs::path out = fs::absolute(FLAGS_output).lexically_normal();
     const bool non_empty = fs::exists(out) && (!fs::is_directory(out) || !fs::is_empty(out));
     if (non_empty && !FLAGS_force)
@@ -55,12 +56,6 @@ int main(int argc, char** argv) {
                 out.string().c_str(), seq.imu.size(), seq.thrust.size(), seq.rotor.size(),
                 seq.images.size(), seq.groundtruth.size());
     for (const auto& w : seq.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  } catch (const hdvio::InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return hdvio::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/io/sequence_info.h"
 #include "hdvio/io/sequence_reader.h"
 
@@ -20,7 +21,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", gflags::ProgramUsage());
     return hdvio::kExitBadInput;
   }
-  try {
+  return hdvio::runTool([&] {
     hdvio::io::ReadOptions options;
     options.max_imu_gap_s = FLAGS_max_imu_gap_s;
     if (FLAGS_thrust_coefficient > 0.0) options.thrust_coefficient = FLAGS_thrust_coefficient;
@@ -29,12 +30,6 @@ int main(int argc, char** argv) {
     const hdvio::Sequence seq = hdvio::io::readSequence(argv[1], options);
     std::printf("format:   %s\n%s", hdvio::io::formatName(format),
                 hdvio::io::formatSummary(hdvio::io::summarize(seq)).c_str());
-  } catch (const hdvio::InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return hdvio::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }
