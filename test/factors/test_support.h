@@ -8,6 +8,7 @@
 
 #include "hdvio/core/factor.h"
 #include "hdvio/core/lie.h"
+#include "hdvio/core/numerical_jacobian.h"
 #include "hdvio/core/sequence.h"
 #include "hdvio/core/values.h"
 
@@ -44,21 +45,10 @@ inline void expectJacobiansMatchNumerical(const Factor& factor, const Values& va
   Linearization lin;
   ASSERT_TRUE(factor.linearize(values, &lin));
   ASSERT_TRUE(lin.residual.allFinite());
+  const std::vector<Eigen::MatrixXd> numeric = numericalJacobians(factor, values, h);
   for (std::size_t i = 0; i < factor.keys().size(); ++i) {
     const Key key = factor.keys()[i];
-    const int n = values.tangentDim(key);
-    Eigen::MatrixXd numerical(factor.dim(), n);
-    for (int d = 0; d < n; ++d) {
-      Eigen::VectorXd delta = Eigen::VectorXd::Zero(n);
-      delta[d] = h;
-      Values plus = values, minus = values;
-      plus.update(key, values.plus(key, delta));
-      minus.update(key, values.plus(key, -delta));
-      Eigen::VectorXd rp, rm;
-      ASSERT_TRUE(factor.whitenedError(plus, &rp));
-      ASSERT_TRUE(factor.whitenedError(minus, &rm));
-      numerical.col(d) = (rp - rm) / (2.0 * h);
-    }
+    const Eigen::MatrixXd& numerical = numeric[i];
     const Eigen::MatrixXd& analytic = lin.jacobians[i];
     ASSERT_EQ(analytic.rows(), numerical.rows());
     ASSERT_EQ(analytic.cols(), numerical.cols());
