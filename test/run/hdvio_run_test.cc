@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+
+#include <unistd.h>
 
 #include "hdvio/core/config.h"
 #include "hdvio/io/asl.h"
@@ -35,7 +38,8 @@ Outcome run(const std::string& args) {
 class HdvioRun : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / "hdvio_run_test";
+    // CTest runs each test in its own process, possibly in parallel: one folder per process.
+    dir_ = fs::temp_directory_path() / ("hdvio_run_test_" + std::to_string(getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     auto config = sim::loadSimConfig(
