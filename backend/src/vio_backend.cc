@@ -200,7 +200,6 @@ void VioBackend::addVisualFactors(std::uint64_t k, const FrameObservations& fram
     if (!tryTriangulate(id, &track)) continue;
     result->observations_used += 1;
   }
-  (void)noise;
 }
 
 bool VioBackend::tryTriangulate(int id, Track* track) {
