@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/eval/estimate_inputs.h"
 #include "hdvio/eval/evaluation.h"
 #include "hdvio/eval/report.h"
@@ -136,13 +137,5 @@ int main(int argc, char** argv) {
     std::cerr << "error: --plots needs --out\n";
     return hdvio::kExitBadInput;
   }
-  try {
-    return run();
-  } catch (const hdvio::InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return hdvio::kExitBadInput;
-  } catch (const std::filesystem::filesystem_error& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+  return hdvio::runTool(run);
 }

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/io/asl.h"
 #include "track_runner.h"
 
@@ -59,7 +60,7 @@ int main(int argc, char** argv) {
     gflags::ShowUsageWithFlagsRestrict(argv[0], "hdvio_track_main");
     return hdvio::kExitBadInput;
   }
-  try {
+  return hdvio::runTool([] {
     if (FLAGS_max_frames < 0) throw hdvio::InputError("--max_frames", 0, "must be >= 0");
     const hdvio::Sequence seq = hdvio::io::readAsl(FLAGS_sequence);
     hdvio::frontend::TrackRunOptions options;
@@ -95,9 +96,6 @@ int main(int argc, char** argv) {
                 summary.median_ms, summary.mean_ms, summary.max_ms, summary.median_cpu_ms,
                 summary.max_cpu_ms, load_before, load_after);
     if (!FLAGS_trajectory.empty()) writeTrajectory(summary, FLAGS_trajectory);
-  } catch (const hdvio::InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return hdvio::kExitBadInput;
-  }
-  return 0;
+    return 0;
+  });
 }

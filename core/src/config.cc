@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/yaml_keys.h"
 
 namespace hdvio {
 
@@ -94,9 +95,9 @@ YAML::Node toYaml(const std::vector<double>& v) {
   return n;
 }
 
-// yaml-cpp keeps every entry of a map but answers lookups with the first one, so a repeated
-// key would silently win or lose: reject it, naming both lines.
-void rejectDuplicateKeys(const YAML::Node& node, const std::string& file) {
+}  // namespace
+
+void rejectDuplicateYamlKeys(const YAML::Node& node, const std::string& file) {
   if (node.IsMap()) {
     std::map<std::string, long> seen;
     for (const auto& kv : node) {
@@ -105,14 +106,12 @@ void rejectDuplicateKeys(const YAML::Node& node, const std::string& file) {
       if (!inserted)
         throw InputError(file, lineOf(kv.first), "key '" + key + "' repeats the one on line " +
                                                      std::to_string(it->second));
-      rejectDuplicateKeys(kv.second, file);
+      rejectDuplicateYamlKeys(kv.second, file);
     }
   } else if (node.IsSequence()) {
-    for (const auto& item : node) rejectDuplicateKeys(item, file);
+    for (const auto& item : node) rejectDuplicateYamlKeys(item, file);
   }
 }
-
-}  // namespace
 
 ConfigReader::ConfigReader(std::shared_ptr<State> state, YAML::Node node, YAML::Node effective,
                            std::string path)
@@ -127,7 +126,7 @@ ConfigReader ConfigReader::fromString(const std::string& yaml, const std::string
   }
   if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) throw InputError(name, lineOf(root), "expected a map of keys at top level");
-  rejectDuplicateKeys(root, name);
+  rejectDuplicateYamlKeys(root, name);
   auto state = std::make_shared<State>();
   state->file = name;
   state->effective_root = YAML::Node(YAML::NodeType::Map);

@@ -183,6 +183,19 @@ TEST_F(EurocCopy, MissingSensorYamlKey) {
   expectError(f, 0, "missing key 'intrinsics'");
 }
 
+TEST_F(EurocCopy, RepeatedSensorYamlKey) {
+  const std::string f = mav0("cam0/sensor.yaml");
+  auto lines = readLines(f);
+  const auto it = std::find_if(lines.begin(), lines.end(),
+                               [](const std::string& l) { return l.rfind("intrinsics:", 0) == 0; });
+  ASSERT_NE(it, lines.end());
+  const long first_line = static_cast<long>(it - lines.begin()) + 1;
+  lines.push_back("intrinsics: [400.0, 400.0, 360.0, 240.0]");
+  writeLines(f, lines);
+  expectError(f, static_cast<long>(lines.size()),
+              "key 'intrinsics' repeats the one on line " + std::to_string(first_line));
+}
+
 TEST_F(EurocCopy, InconsistentCameraCalibration) {
   const std::string f = mav0("cam0/sensor.yaml");
   const auto original = readLines(f);

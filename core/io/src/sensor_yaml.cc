@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/yaml_keys.h"
 #include "hdvio/io/csv.h"
 
 namespace hdvio::io {
@@ -32,6 +33,7 @@ class SensorYaml {
       throw InputError(path, e.mark.line + 1, "YAML syntax error: " + e.msg);
     }
     if (!root_.IsMap()) throw InputError(path, 0, "expected a YAML map of sensor parameters");
+    rejectDuplicateYamlKeys(root_, path);
   }
 
   bool has(const std::string& key) const { return static_cast<bool>(root_[key]); }
