@@ -227,6 +227,7 @@ ConfigReader ConfigReader::section(const std::string& key) const {
   if (!n.IsMap()) fail(n, key, "expected a map");
   YAML::Node eff = effective_;
   eff[key] = YAML::Node(YAML::NodeType::Map);
+  state_->used[keyPath(key)];  // opened: finish() checks its keys too
   return ConfigReader(state_, n, eff[key], keyPath(key));
 }
 
@@ -249,6 +250,7 @@ std::vector<ConfigReader> ConfigReader::list(const std::string& key) const {
     if (!n[i].IsMap())
       throw InputError(state_->file, lineOf(n[i]), "key '" + item_path + "': expected a map");
     eff[key].push_back(YAML::Node(YAML::NodeType::Map));
+    state_->used[item_path];
     out.push_back(ConfigReader(state_, n[i], eff[key][i], item_path));
   }
   return out;
@@ -259,6 +261,20 @@ void ConfigReader::finish() const {
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
     if (!used.count(key)) fail(kv.first, key, "unknown key");
+  }
+  // Sections and list items opened from this map are checked as well, so a typo deep inside a
+  // section is caught even if its reader forgot to call finish().
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    if (kv.second.IsMap() && state_->used.count(keyPath(key))) {
+      ConfigReader(state_, kv.second, YAML::Node(), keyPath(key)).finish();
+    } else if (kv.second.IsSequence()) {
+      for (std::size_t i = 0; i < kv.second.size(); ++i) {
+        const std::string item_path = keyPath(key) + "[" + std::to_string(i) + "]";
+        if (kv.second[i].IsMap() && state_->used.count(item_path))
+          ConfigReader(state_, kv.second[i], YAML::Node(), item_path).finish();
+      }
+    }
   }
 }
 

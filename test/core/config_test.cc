@@ -49,6 +49,21 @@ TEST(Config, UnknownKeyNamesFileLineAndPath) {
   EXPECT_EQ(errorOf([&] { sub.finish(); }), "exp.yaml:4: key 'sub.typo': unknown key");
 }
 
+TEST(Config, RootFinishChecksOpenedSectionsAndListItems) {
+  auto cfg = ConfigReader::fromString(
+      "a: 1\nsub:\n  b: 2\n  deeper:\n    typo: 3\n", "exp.yaml");
+  int a = 0, b = 0, c = 0;
+  cfg.read("a", &a);
+  auto sub = cfg.section("sub");
+  sub.read("b", &b);
+  sub.section("deeper");  // opened, nothing read: its typo must still be found
+  EXPECT_EQ(errorOf([&] { cfg.finish(); }), "exp.yaml:5: key 'sub.deeper.typo': unknown key");
+
+  auto cfg2 = ConfigReader::fromString("items:\n  - {c: 1}\n  - {c: 2, bad: 0}\n", "l.yaml");
+  for (auto& item : cfg2.list("items")) item.read("c", &c);
+  EXPECT_EQ(errorOf([&] { cfg2.finish(); }), "l.yaml:3: key 'items[1].bad': unknown key");
+}
+
 TEST(Config, WrongTypeAndRangeAndChoiceAreErrors) {
   auto cfg = ConfigReader::fromString("n: 1.5\nflag: maybe\nx: 12\nmode: fast\n", "c.yaml");
   int n = 0;
