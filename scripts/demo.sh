@@ -1,24 +1,88 @@
 #!/usr/bin/env bash
-# Sets up, builds and runs the main job on the embedded default: generates a synthetic
-# quadrotor flight with drag and wind (hdvio_sim), runs the vio, vimo, vid and hdvio backends
-# on its landmark tracks (hdvio_run), and prints the evaluation table with figures
-# (hdvio_eval). Everything goes to results/demo/.
+# The product's story in one command (docs/hdvio_story.md):
+#   1. set up (Debian packages incl. libtorch for the trainer) and build the tools;
+#   2. simulate a calm-air training flight and a separate fast test flight (race through gates)
+#      with rotor/fuselage drag, a breeze and gusts (hdvio_sim);
+#   3. train the residual-force TCN on the training flight only (hdvio_train, bounded: at most
+#      40 epochs or 2 minutes on one thread) and check its force prediction on the test flight
+#      (hdvio_force_eval);
+#   4. run vio, vimo, vid and hdvio with the trained model on the test flight's landmark tracks
+#      (hdvio_run, in parallel);
+#   5. print the evaluation table (ATE, RPE, velocity and force RMSE) and write figures
+#      (hdvio_eval --plots).
+# Everything goes to results/demo/.
+# Usage: scripts/demo.sh [--skip-setup] [--build-dir DIR]
+#   --build-dir DIR: use an existing build configured with -DHDVIO_WITH_TORCH=ON (skips setup,
+#   configure and build), e.g. to re-run the story after changing a config.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j"$jobs" --target hdvio_sim hdvio_run hdvio_eval hdvio_info
-out=results/demo
-rm -rf "$out" && mkdir -p "$out"
-build/apps/sim/hdvio_sim --config config/sim/demo.yaml --out "$out/sequence"
-build/apps/tools/hdvio_info "$out/sequence"
-estimates=()
-for method in vio vimo vid hdvio; do
-  build/apps/run/hdvio_run --config "config/experiments/$method.yaml" \
-    --dataset "$out/sequence" --out "$out/$method"
-  estimates+=("$method=$out/$method")
+start=$(date +%s)
+setup=1
+build=build-demo   # its own build folder: the trainer needs libtorch, scripts/test.sh does not
+prebuilt=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --skip-setup) setup=0 ;;
+    --build-dir) [ $# -ge 2 ] || { echo "demo.sh: --build-dir needs a folder" >&2; exit 2; }
+                 build=$2; prebuilt=1; setup=0; shift ;;
+    *) echo "demo.sh: unknown argument '$1' (expected --skip-setup or --build-dir DIR)" >&2; exit 2 ;;
+  esac
+  shift
 done
-build/apps/eval/hdvio_eval --gt "$out/sequence" --est "$(IFS=,; echo "${estimates[*]}")" \
+if [ "$setup" -eq 1 ]; then bash scripts/setup.sh --with-torch; fi
+jobs=$(nproc 2>/dev/null || echo 2)
+if [ "$prebuilt" -eq 0 ]; then
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DHDVIO_WITH_TORCH=ON
+  cmake --build "$build" -j"$jobs" --target hdvio_sim hdvio_run hdvio_eval hdvio_info hdvio_train hdvio_force_eval
+fi
+bin=$build/apps
+out=results/demo
+rm -rf "$out" && mkdir -p "$out/model"
+step() { echo; echo "== demo ($(($(date +%s) - start)) s): $*"; }
+
+step "simulating the training flight and the test flight"
+"$bin/sim/hdvio_sim" --config config/sim/demo_train.yaml --out "$out/train"
+"$bin/sim/hdvio_sim" --config config/sim/demo.yaml --out "$out/sequence"
+"$bin/tools/hdvio_info" "$out/sequence"
+
+step "training the residual-force model on the training flight"
+"$bin/train/hdvio_train" --config config/learned/sim_demo_train.yaml --data_root "$out" \
+  --out "$out/model/residual_force.tcn" | tee "$out/model/training.log"
+
+step "force prediction on the test flight (never trained on): thrust alone vs thrust + TCN"
+"$bin/train/hdvio_force_eval" --data_root "$out" --data sequence \
+  --weights "$out/model/residual_force.tcn" --out_csv "$out/model/residual_force_on_sequence.csv" |
+  tee "$out/model/force_eval.md"
+
+step "running vio, vimo, vid and hdvio (trained model) on the test flight"
+methods=(vio vimo vid hdvio)
+configs=(config/experiments/vio.yaml config/experiments/vimo.yaml config/experiments/vid.yaml
+         config/experiments/hdvio_learned_demo.yaml)
+pids=()
+for i in "${!methods[@]}"; do  # all at once: each is single-threaded, the OS shares the cores
+  "$bin/run/hdvio_run" --config "${configs[$i]}" --dataset "$out/sequence" --out "$out/${methods[$i]}" \
+    > "$out/${methods[$i]}.log" 2>&1 &
+  pids+=($!)
+done
+for i in "${!methods[@]}"; do
+  wait "${pids[$i]}" || { cat "$out/${methods[$i]}.log" >&2; echo "demo.sh: ${methods[$i]} failed" >&2; exit 1; }
+done
+for m in "${methods[@]}"; do tail -n 1 "$out/$m.log"; done
+
+# hdvio's dynamics see the learned residual plus its external force; compare their sum with
+# the simulator's drag + external force (the table's "total-force" columns), like vimo's and
+# vid's external force, which absorbs all non-thrust force.
+/usr/bin/python3 scripts/total_force.py --force "$out/hdvio/stamped_force_estimate.csv" \
+  --residual "$out/model/residual_force_on_sequence.csv" --out "$out/hdvio_total_force.csv"
+
+step "evaluating (posyaw-aligned ATE, RPE, velocity and force RMSE) and plotting"
+"$bin/eval/hdvio_eval" --gt "$out/sequence" \
+  --est "vio=$out/vio,vimo=$out/vimo,vid=$out/vid,hdvio=$out/hdvio:force=$out/hdvio_total_force.csv" \
   --out "$out/evaluation" --plots
-echo "demo: results, table and figures in $out/"
+echo
+cat "$out/evaluation/table.md"
+echo
+echo "Force columns: vimo and vid estimate one external force that absorbs all non-thrust force;"
+echo "hdvio's row is its external force plus the learned residual. Compare all of them with the"
+echo "'total-force' columns (the simulator's drag + external force)."
+step "done: results, table and figures in $out/ (evaluation/table.md, evaluation/*.png)"

@@ -20,6 +20,9 @@
 DEFINE_string(config, "", "Simulator scenario YAML (see config/sim/)");
 DEFINE_string(out, "", "Output folder (ASL layout, <out>/mav0/...)");
 DEFINE_bool(overwrite, false, "Replace an existing non-empty output folder");
+DEFINE_bool(no_images, false,
+            "Skip rendering: cam0 keeps its calibration but lists no images (the landmark "
+            "tracks the backends use are still written); for fast benchmark sequences");
 
 namespace fs = std::filesystem;
 
@@ -41,7 +44,8 @@ void run() {
   try {
     fs::remove_all(stage);
     hdvio::sim::SimulationResult result = simulator.simulate();
-    simulator.renderImages(&result, (stage / "mav0" / "cam0" / "data").string());
+    if (!FLAGS_no_images)
+      simulator.renderImages(&result, (stage / "mav0" / "cam0" / "data").string());
     hdvio::io::writeAsl(result.sequence, stage.string());
     std::ofstream(stage / "sim_config.yaml") << reader.effectiveYaml() << "\n";
     if (fs::exists(out)) fs::remove_all(out);
@@ -76,7 +80,7 @@ void runNamingScenario() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("hdvio_sim --config <scenario.yaml> --out <folder> [--overwrite]");
+  gflags::SetUsageMessage("hdvio_sim --config <scenario.yaml> --out <folder> [--overwrite] [--no-images]");
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   cv::setNumThreads(1);  // one core by design (benchmarks, shared CI machines)
   if (FLAGS_config.empty() || FLAGS_out.empty() || argc != 1) {

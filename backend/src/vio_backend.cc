@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 
 #include "hdvio/backend/triangulation.h"
 #include "hdvio/factors/dynamics_factor.h"
@@ -17,6 +18,13 @@ using symbols::V;
 using symbols::X;
 
 namespace {
+// CPU time of the calling thread: the per-frame cost on one core, whatever else runs.
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 SmootherOptions smootherOptions(const VioBackendOptions& o) {
   SmootherOptions s;
   s.optimizer.max_iterations = o.max_iterations;
@@ -24,6 +32,8 @@ SmootherOptions smootherOptions(const VioBackendOptions& o) {
   s.optimizer.linear_solver = o.linear_solver == "dense_schur"    ? ceres::DENSE_SCHUR
                               : o.linear_solver == "sparse_schur" ? ceres::SPARSE_SCHUR
                                                                   : ceres::SPARSE_NORMAL_CHOLESKY;
+  if (o.landmarks_first) s.eliminate_first = {L(0).letter()};
+  s.function_tolerance = o.function_tolerance;
   return s;
 }
 }  // namespace
@@ -146,6 +156,7 @@ FrameResult VioBackend::addFrame(const FrameObservations& frame) {
     return result;
   if (usesDynamics(options_.method) && (thrust_.empty() || thrust_.back().t < frame.t))
     return result;
+  const double cpu_start = threadCpuSeconds();
   const std::uint64_t k = next_index_++;
   FactorGraph inertial;
   Values values;
@@ -164,12 +175,15 @@ FrameResult VioBackend::addFrame(const FrameObservations& frame) {
   if (result.outliers_removed > 0) solved = smoother_.optimize();
   result.solver_iterations = solved.iterations;
   result.solve_time_s = solved.solve_time_s;
+  const double window_start = threadCpuSeconds();
   maintainWindow();
+  result.marginalization_cpu_s = threadCpuSeconds() - window_start;
 
   result.processed = true;
   result.keyframe = states_.back().keyframe;
   for (const auto& [id, track] : tracks_) result.landmarks_in_window += track.in_graph ? 1 : 0;
   result.state = latestState();
+  result.cpu_time_s = threadCpuSeconds() - cpu_start;
   return result;
 }
 
@@ -195,10 +209,18 @@ void VioBackend::addVisualFactors(std::uint64_t k, const FrameObservations& fram
   for (std::size_t n = 0; n < ids.size(); ++n) tracks_[ids[n]].factors[k] = added.new_factor_ids[n];
   result->observations_used = static_cast<int>(ids.size());
 
+  // New landmarks within the budget, longest tracks first (best parallax, most constraints).
+  int in_window = 0;
+  for (const auto& kv : tracks_) in_window += kv.second.in_graph ? 1 : 0;
+  std::stable_sort(pending.begin(), pending.end(), [&](int a, int b) {
+    return tracks_[a].obs.size() > tracks_[b].obs.size();
+  });
   for (int id : pending) {
+    if (in_window >= options_.max_landmarks) break;
     Track& track = tracks_[id];
     if (!tryTriangulate(id, &track)) continue;
     result->observations_used += 1;
+    ++in_window;
   }
 }
 
@@ -293,17 +315,37 @@ void VioBackend::maintainWindow() {
 }
 
 void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_information) {
-  // Landmarks first seen by a leaving keyframe leave with it (their observations from the
-  // other states go into the prior, as VINS does with the landmarks anchored in the oldest
-  // frame); other observations by the leaving state are dropped to keep the prior sparse.
+  // Landmarks first seen by a leaving keyframe and no longer seen by the recent states leave
+  // with it (their observations from the other keyframes go into the prior); landmarks still
+  // tracked stay and only lose this observation (as OKVIS does). Other observations by the
+  // leaving state are dropped too. So the prior links old keyframes only and stays small.
   std::set<Key> leaving{X(index), V(index), B(index)};
   if (smoother_.estimate().exists(F(index))) leaving.insert(F(index));
+  const std::size_t recent = std::min(states_.size(), static_cast<std::size_t>(options_.num_recent));
+  const std::uint64_t first_recent = states_[states_.size() - recent].index;
+  std::set<std::uint64_t> keyframes;
+  for (const auto& slot : states_)
+    if (slot.keyframe) keyframes.insert(slot.index);
+  const auto keyframe_of = [&](std::uint64_t i) { return keyframes.count(i) > 0; };
   std::set<Key> dead_landmarks;
   for (auto it = tracks_.begin(); it != tracks_.end();) {
     Track& track = it->second;
     const bool observed = track.obs.count(index) > 0;
+    const bool still_tracked = !track.factors.empty() && track.factors.rbegin()->first >= first_recent;
+    const std::string& rule = options_.landmark_marginalization;
     if (observed && track.in_graph && keep_landmark_information &&
-        track.obs.begin()->first == index && track.factors.count(index)) {
+        !(rule == "untracked" && still_tracked) && track.obs.begin()->first == index &&
+        track.factors.count(index)) {
+      if (rule == "keyframes") {
+        for (auto f = track.factors.begin(); f != track.factors.end();) {
+          if (keyframe_of(f->first)) {
+            ++f;
+            continue;
+          }
+          smoother_.removeFactors({f->second});
+          f = track.factors.erase(f);
+        }
+      }
       leaving.insert(L(it->first));
       it = tracks_.erase(it);
       continue;

@@ -68,9 +68,14 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   c.readInRange("robust_width_px", &o.robust_width_px, 1e-3, 100.0);
   c.readInRange("outlier_threshold_px", &o.outlier_threshold_px, 0.1, 1000.0);
   c.readInRange("min_triangulation_angle_deg", &o.min_triangulation_angle_deg, 0.0, 45.0);
+  c.readInRange("max_landmarks", &o.max_landmarks, 1, 100000);
+  c.readChoice("landmark_marginalization", &o.landmark_marginalization,
+               {"all", "keyframes", "untracked"});
   c.readInRange("max_iterations", &o.max_iterations, 1, 1000);
+  c.readInRange("function_tolerance", &o.function_tolerance, 1e-12, 1e-1);
   c.readChoice("linear_solver", &o.linear_solver,
                {"dense_schur", "sparse_schur", "sparse_normal_cholesky"});
+  c.readOptional("landmarks_first", &o.landmarks_first);
   c.readInRange("max_solver_time_s", &o.max_solver_time_s, 1e-4, 1e4);
   c.readInRange("gyro_noise_density", &o.imu.gyro_noise_density, 1e-12, 1.0);
   c.readInRange("accel_noise_density", &o.imu.accel_noise_density, 1e-12, 10.0);

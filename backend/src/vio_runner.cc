@@ -1,27 +1,50 @@
 #include "hdvio/backend/vio_runner.h"
 
 #include <chrono>
+#include <optional>
 #include <random>
 
+#include "hdvio/backend/vi_initialization.h"
 #include "hdvio/core/error.h"
 
 namespace hdvio {
 
-NavState staticInitialization(const std::vector<ImuSample>& imu, Timestamp t, double window_s) {
-  Vec3 acc = Vec3::Zero(), gyro = Vec3::Zero();
+namespace {
+struct ImuMeans {
+  Vec3 acc = Vec3::Zero();
+  Vec3 gyro = Vec3::Zero();
   int n = 0;
+};
+ImuMeans imuMeans(const std::vector<ImuSample>& imu, Timestamp t, double window_s) {
+  ImuMeans m;
   for (const auto& s : imu) {
     if (s.t > t) break;
     if (s.t < t - fromSeconds(window_s)) continue;
-    acc += s.accel;
-    gyro += s.gyro;
-    ++n;
+    m.acc += s.accel;
+    m.gyro += s.gyro;
+    ++m.n;
   }
-  if (n == 0) throw InputError("", 0, "static initialization: no IMU samples before the first frame");
-  acc /= n;
-  gyro /= n;
+  if (m.n > 0) {
+    m.acc /= m.n;
+    m.gyro /= m.n;
+  }
+  return m;
+}
+bool still(const ImuMeans& m) {
+  return m.n > 0 && m.gyro.norm() < 0.05 && std::abs(m.acc.norm() - kGravity) < 0.3;
+}
+}  // namespace
+
+bool imuIsStill(const std::vector<ImuSample>& imu, Timestamp t, double window_s) {
+  return still(imuMeans(imu, t, window_s));
+}
+
+NavState staticInitialization(const std::vector<ImuSample>& imu, Timestamp t, double window_s) {
+  const ImuMeans m = imuMeans(imu, t, window_s);
+  if (m.n == 0)
+    throw InputError("", 0, "static initialization: no IMU samples before the first frame");
   // The accelerometer measures -g in the body frame: find R_WB with R_WB * acc = +z |acc|.
-  const Quat q = Quat::FromTwoVectors(acc.normalized(), Vec3::UnitZ());
+  const Quat q = Quat::FromTwoVectors(m.acc.normalized(), Vec3::UnitZ());
   // Remove the yaw this leaves, so the gauge is yaw = 0.
   const Vec3 x_axis = q * Vec3::UnitX();
   const double yaw = std::atan2(x_axis.y(), x_axis.x());
@@ -29,8 +52,7 @@ NavState staticInitialization(const std::vector<ImuSample>& imu, Timestamp t, do
   s.t = t;
   s.T_WB = Pose(Quat(Eigen::AngleAxisd(-yaw, Vec3::UnitZ())) * q, Vec3::Zero());
   // The mean gyro is a bias estimate only if the vehicle really was still.
-  const bool still = gyro.norm() < 0.05 && std::abs(acc.norm() - kGravity) < 0.3;
-  if (still) s.bias.head<3>() = gyro;
+  if (still(m)) s.bias.head<3>() = m.gyro;
   return s;
 }
 
@@ -97,16 +119,33 @@ VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& option
     while (thrust_next < thrust.size() && thrust[thrust_next].t <= t)
       backend.addThrust(thrust[thrust_next++]);
   };
+  std::optional<ViInitializer> vi_init;
+  if (run.visual_inertial_init && !run.init_from_groundtruth)
+    vi_init.emplace(CameraModel::fromCalibration(*seq.camera), seq.camera->T_BS, opts.imu,
+                    ViInitOptions{}, run.vi_init_window_s);
   const auto start = std::chrono::steady_clock::now();
   for (const auto& frame : frames) {
     feed_until(frame.t);
     if (!backend.initialized()) {
-      if (frame.t - seq.imu.front().t < fromSeconds(run.static_init_window_s) &&
-          !run.init_from_groundtruth)
-        continue;  // wait for enough IMU to see gravity
-      backend.initialize(run.init_from_groundtruth
-                             ? groundTruthState(seq, frame.t)
-                             : staticInitialization(seq.imu, frame.t, run.static_init_window_s));
+      std::optional<NavState> initial;
+      if (run.init_from_groundtruth) {
+        initial = groundTruthState(seq, frame.t);
+      } else if (frame.t - seq.imu.front().t >= fromSeconds(run.static_init_window_s)) {
+        // Enough IMU to see gravity: a moving start needs the visual-inertial alignment; a
+        // start at rest (no parallax, still IMU) gets the static one; a start that defeats
+        // the alignment for too long gets the static guess with its loose priors.
+        const bool timed_out = frame.t - frames.front().t > fromSeconds(run.vi_init_timeout_s);
+        if (vi_init && vi_init->addFrame(frame, seq.imu))
+          initial = vi_init->result().latest();
+        else if (!vi_init || timed_out ||
+                 imuIsStill(seq.imu, frame.t, run.static_init_window_s))
+          initial = staticInitialization(seq.imu, frame.t, run.static_init_window_s);
+        out.visual_inertial_start = initial && vi_init && vi_init->result().success;
+      } else if (vi_init) {
+        vi_init->addFrame(frame, seq.imu);
+      }
+      if (!initial) continue;
+      backend.initialize(*initial);
       FrameResult first;
       first.processed = true;
       first.keyframe = true;

@@ -169,6 +169,9 @@ FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPri
     have_rotation_prior_ = false;
   }
   result.tracked = tracked;
+  if (tracked)
+    for (const Feature& f : frame->features)
+      if (f.landmark_id >= 0) result.observations.push_back({f.landmark_id, f.px, f.f, f.level});
   result.stage = stage_;
   result.T_WB = cameraToBody(tracked || !last_frame_ ? frame->T_cw : last_frame_->T_cw);
   result.landmarks = static_cast<int>(map_.landmarks.size());

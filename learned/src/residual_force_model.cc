@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hdvio/core/error.h"
 #include "hdvio/learned/tcn_weight_file.h"
 
 namespace hdvio::learned {
@@ -20,7 +21,11 @@ ResidualForceModel::ResidualForceModel(Tcn tcn, double default_sigma)
 
 std::shared_ptr<const ResidualForceModel> ResidualForceModel::load(const std::string& path,
                                                                    double default_sigma) {
-  return std::make_shared<const ResidualForceModel>(loadTcnWeights(path), default_sigma);
+  TcnFile file = loadTcnFile(path);
+  if (file.info.task != "force") {
+    throw InputError(path, 0, "not a residual-force network (task '" + file.info.task + "')");
+  }
+  return std::make_shared<const ResidualForceModel>(std::move(file.tcn), default_sigma);
 }
 
 ResidualForcePrediction ResidualForceModel::predict(const std::vector<DynamicsInput>& window) const {

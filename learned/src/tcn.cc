@@ -6,6 +6,10 @@
 
 #include <unsupported/Eigen/SpecialFunctions>
 
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 namespace hdvio::learned {
 namespace {
 
@@ -42,6 +46,12 @@ MatrixXf stackTaps(const MatrixXf& input, const std::vector<int>& column_of,
     }
   }
   return stacked;
+}
+
+// column_of[s] = position of step s in `steps`, -1 for the others.
+void mapColumns(const std::vector<int>& steps, std::vector<int>* column_of) {
+  std::fill(column_of->begin(), column_of->end(), -1);
+  for (std::size_t c = 0; c < steps.size(); ++c) (*column_of)[steps[c]] = static_cast<int>(c);
 }
 
 // y = W s + b for n columns s (K floats each, contiguous), W column-major out x K: a
@@ -131,7 +141,7 @@ MatrixXf affine(const MatrixXf& W, const VectorXf& b, const MatrixXf& stacked) {
 int TcnArchitecture::receptiveField() const {
   int sum = 0;
   for (const auto& l : layers) sum += l.dilation;
-  return 1 + (kernel_size - 1) * sum;
+  return 1 + (kernel_size - 1) * sum * (residual ? 2 : 1);
 }
 
 void TcnArchitecture::validate() const {
@@ -144,7 +154,7 @@ void TcnArchitecture::validate() const {
     require(l.out_channels > 0 && l.out_channels <= 4096, "layer width must be in [1, 4096]");
     require(l.dilation >= 1 && l.dilation <= 4096, "dilation must be in [1, 4096]");
   }
-  require(output_channels == 3, "output_channels must be 3 (a body-frame force)");
+  require(output_channels == 3, "output_channels must be 3 (a force or a displacement)");
   require(receptiveField() <= window,
           "receptive field " + std::to_string(receptiveField()) + " exceeds the window " +
               std::to_string(window));
@@ -157,6 +167,15 @@ TcnArchitecture TcnArchitecture::paper(bool variance_head) {
   return a;
 }
 
+TcnArchitecture TcnArchitecture::imo(int window, double sample_rate_hz) {
+  TcnArchitecture a;
+  a.residual = true;
+  a.window = window;
+  a.sample_rate_hz = sample_rate_hz;
+  a.layers = {{64, 8}, {64, 8}, {64, 4}, {64, 1}, {128, 1}, {128, 1}, {128, 1}};
+  return a;
+}
+
 Tcn::Tcn(TcnArchitecture architecture, TcnWeights weights)
     : arch_(std::move(architecture)), weights_(std::move(weights)) {
   arch_.validate();
@@ -164,15 +183,35 @@ Tcn::Tcn(TcnArchitecture architecture, TcnWeights weights)
   checkShape(weights_.input_mean, c_in, 1, "input_mean");
   checkShape(weights_.input_std, c_in, 1, "input_std");
   require((weights_.input_std.array() > 0.0f).all(), "input_std must be positive");
-  require(weights_.conv.size() == arch_.layers.size(),
-          "expected " + std::to_string(arch_.layers.size()) + " convolution layers, found " +
+  const std::size_t n_conv = static_cast<std::size_t>(arch_.convolutionCount());
+  require(weights_.conv.size() == n_conv,
+          "expected " + std::to_string(n_conv) + " convolution layers, found " +
               std::to_string(weights_.conv.size()));
+  require(weights_.skip.size() == (arch_.residual ? arch_.layers.size() : 0),
+          "expected " + std::to_string(arch_.residual ? arch_.layers.size() : 0) +
+              " skip connections, found " + std::to_string(weights_.skip.size()));
   int width = c_in;
+  const int per_block = arch_.residual ? 2 : 1;
   for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
     const int out = arch_.layers[l].out_channels;
-    const std::string name = "conv " + std::to_string(l);
-    checkShape(weights_.conv[l].weight, out, arch_.kernel_size * width, name + " weight");
-    checkShape(weights_.conv[l].bias, out, 1, name + " bias");
+    for (int j = 0; j < per_block; ++j) {
+      const std::size_t c = l * per_block + j;
+      const std::string name = "conv " + std::to_string(c);
+      const int in = j == 0 ? width : out;
+      checkShape(weights_.conv[c].weight, out, arch_.kernel_size * in, name + " weight");
+      checkShape(weights_.conv[c].bias, out, 1, name + " bias");
+    }
+    if (arch_.residual) {
+      const std::string name = "skip " + std::to_string(l);
+      const TcnConvWeights& sk = weights_.skip[l];
+      if (width == out) {
+        require(sk.weight.size() == 0 && sk.bias.size() == 0,
+                name + " must be the identity (block keeps its width)");
+      } else {
+        checkShape(sk.weight, out, width, name + " weight");
+        checkShape(sk.bias, out, 1, name + " bias");
+      }
+    }
     width = out;
   }
   checkShape(weights_.head_weight, arch_.output_channels, width, "head weight");
@@ -186,24 +225,35 @@ Tcn::Tcn(TcnArchitecture architecture, TcnWeights weights)
   }
 
   // Walk back from the last output to the steps each layer must produce.
-  const std::size_t n_layers = arch_.layers.size();
-  needed_.assign(n_layers + 1, {});
-  needed_[n_layers] = {arch_.window - 1};
-  for (std::size_t l = n_layers; l-- > 0;) {
-    std::set<int> steps;
-    for (int t : needed_[l + 1]) {
-      for (int j = 0; j < arch_.kernel_size; ++j) {
-        const int s = t - (arch_.kernel_size - 1 - j) * arch_.layers[l].dilation;
+  const int k = arch_.kernel_size;
+  auto taps = [k](const std::vector<int>& outs, int dilation, std::set<int> steps) {
+    for (int t : outs) {
+      for (int j = 0; j < k; ++j) {
+        const int s = t - (k - 1 - j) * dilation;
         if (s >= 0) steps.insert(s);
       }
     }
-    needed_[l].assign(steps.begin(), steps.end());
+    return std::vector<int>(steps.begin(), steps.end());
+  };
+  const std::size_t n_layers = arch_.layers.size();
+  needed_.assign(n_conv + 1, {});
+  needed_[n_conv] = {arch_.window - 1};
+  for (std::size_t l = n_layers; l-- > 0;) {
+    const int d = arch_.layers[l].dilation;
+    if (arch_.residual) {
+      const std::vector<int>& out = needed_[2 * l + 2];
+      needed_[2 * l + 1] = taps(out, d, {});
+      needed_[2 * l] = taps(needed_[2 * l + 1], d, std::set<int>(out.begin(), out.end()));
+    } else {
+      needed_[l] = taps(needed_[l + 1], d, {});
+    }
   }
 }
 
 std::size_t Tcn::parameterCount() const {
   std::size_t n = 0;
   for (const auto& c : weights_.conv) n += c.weight.size() + c.bias.size();
+  for (const auto& c : weights_.skip) n += c.weight.size() + c.bias.size();
   n += weights_.head_weight.size() + weights_.head_bias.size();
   n += weights_.logvar_weight.size() + weights_.logvar_bias.size();
   return n;
@@ -229,23 +279,59 @@ TcnOutput Tcn::predictWindow(const MatrixXf& window) const {
     column_of[needed_[0][c]] = static_cast<int>(c);
     x.col(static_cast<long>(c)) = window.col(needed_[0][c]);
   }
-  x = normalize(x);
-  for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
-    const MatrixXf stacked =
-        stackTaps(x, column_of, needed_[l + 1], arch_.kernel_size, arch_.layers[l].dilation);
-    MatrixXf y = affine(weights_.conv[l].weight, weights_.conv[l].bias, stacked);
-    geluInPlace(&y);
-    std::fill(column_of.begin(), column_of.end(), -1);
-    for (std::size_t c = 0; c < needed_[l + 1].size(); ++c) {
-      column_of[needed_[l + 1][c]] = static_cast<int>(c);
-    }
-    x = std::move(y);
-  }
+  x = run(normalize(x), std::move(column_of), needed_);
   // x holds the single last step.
   TcnOutput out;
   out.force = weights_.head_weight * x.col(0) + weights_.head_bias;
   if (arch_.variance_head) out.log_variance = weights_.logvar_weight * x.col(0) + weights_.logvar_bias;
   return out;
+}
+
+MatrixXf Tcn::run(MatrixXf x, std::vector<int> column_of,
+                  const std::vector<std::vector<int>>& needed) const {
+  return arch_.residual ? runResidual(std::move(x), std::move(column_of), needed)
+                        : runPlain(std::move(x), std::move(column_of), needed);
+}
+
+MatrixXf Tcn::runPlain(MatrixXf x, std::vector<int> column_of,
+                       const std::vector<std::vector<int>>& needed) const {
+  for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
+    const MatrixXf stacked =
+        stackTaps(x, column_of, needed[l + 1], arch_.kernel_size, arch_.layers[l].dilation);
+    MatrixXf y = affine(weights_.conv[l].weight, weights_.conv[l].bias, stacked);
+    geluInPlace(&y);
+    mapColumns(needed[l + 1], &column_of);
+    x = std::move(y);
+  }
+  return x;
+}
+
+MatrixXf Tcn::runResidual(MatrixXf x, std::vector<int> column_of,
+                          const std::vector<std::vector<int>>& needed) const {
+  std::vector<int> mid_column_of(column_of.size(), -1);
+  for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
+    const int d = arch_.layers[l].dilation, k = arch_.kernel_size;
+    const std::vector<int>& mid = needed[2 * l + 1];
+    const std::vector<int>& out = needed[2 * l + 2];
+    MatrixXf h = affine(weights_.conv[2 * l].weight, weights_.conv[2 * l].bias,
+                        stackTaps(x, column_of, mid, k, d));
+    geluInPlace(&h);
+    mapColumns(mid, &mid_column_of);
+    MatrixXf y = affine(weights_.conv[2 * l + 1].weight, weights_.conv[2 * l + 1].bias,
+                        stackTaps(h, mid_column_of, out, k, d));
+    geluInPlace(&y);
+    // Skip: the block input at the output steps (a 1-tap "convolution").
+    const MatrixXf x_out = stackTaps(x, column_of, out, 1, 1);
+    const TcnConvWeights& skip = weights_.skip[l];
+    if (skip.weight.size() == 0) {
+      y += x_out;
+    } else {
+      y += affine(skip.weight, skip.bias, x_out);
+    }
+    mapColumns(out, &column_of);
+    x = std::move(y);
+  }
+  return x;
 }
 
 MatrixXf Tcn::forwardSequence(const MatrixXf& inputs) const {
@@ -256,14 +342,8 @@ MatrixXf Tcn::forwardSequence(const MatrixXf& inputs) const {
   const int steps = static_cast<int>(inputs.cols());
   std::vector<int> all(steps), column_of(steps);
   for (int t = 0; t < steps; ++t) all[t] = column_of[t] = t;
-  MatrixXf x = normalize(inputs);
-  for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
-    const MatrixXf stacked =
-        stackTaps(x, column_of, all, arch_.kernel_size, arch_.layers[l].dilation);
-    MatrixXf y = affine(weights_.conv[l].weight, weights_.conv[l].bias, stacked);
-    geluInPlace(&y);
-    x = std::move(y);
-  }
+  const std::vector<std::vector<int>> needed(needed_.size(), all);
+  const MatrixXf x = run(normalize(inputs), std::move(column_of), needed);
   const long rows = arch_.output_channels * (arch_.variance_head ? 2 : 1);
   MatrixXf out(rows, steps);
   out.topRows(arch_.output_channels) =
@@ -275,7 +355,55 @@ MatrixXf Tcn::forwardSequence(const MatrixXf& inputs) const {
   return out;
 }
 
+#ifdef HDVIO_TCN_AVX2
+namespace {
+
+// GELU with Eigen's float erf (clamp to [-4, 4], odd/even rational polynomial; the same
+// coefficients, so both paths agree to float rounding) in AVX2 + FMA: Eigen itself is
+// compiled for plain x86-64 here and would use 4-wide SSE.
+__attribute__((target("avx2,fma"))) inline __m256 erfAvx2(__m256 z) {
+  z = _mm256_max_ps(_mm256_min_ps(z, _mm256_set1_ps(4.0f)), _mm256_set1_ps(-4.0f));
+  const __m256 z2 = _mm256_mul_ps(z, z);
+  __m256 p = _mm256_fmadd_ps(z2, _mm256_set1_ps(-2.72614225801306e-10f), _mm256_set1_ps(2.77068142495902e-08f));
+  p = _mm256_fmadd_ps(z2, p, _mm256_set1_ps(-2.10102402082508e-06f));
+  p = _mm256_fmadd_ps(z2, p, _mm256_set1_ps(-5.69250639462346e-05f));
+  p = _mm256_fmadd_ps(z2, p, _mm256_set1_ps(-7.34990630326855e-04f));
+  p = _mm256_fmadd_ps(z2, p, _mm256_set1_ps(-2.95459980854025e-03f));
+  p = _mm256_fmadd_ps(z2, p, _mm256_set1_ps(-1.60960333262415e-02f));
+  p = _mm256_mul_ps(z, p);
+  __m256 q = _mm256_fmadd_ps(z2, _mm256_set1_ps(-1.45660718464996e-05f), _mm256_set1_ps(-2.13374055278905e-04f));
+  q = _mm256_fmadd_ps(z2, q, _mm256_set1_ps(-1.68282697438203e-03f));
+  q = _mm256_fmadd_ps(z2, q, _mm256_set1_ps(-7.37332916720468e-03f));
+  q = _mm256_fmadd_ps(z2, q, _mm256_set1_ps(-1.42647390514189e-02f));
+  return _mm256_div_ps(p, q);
+}
+
+__attribute__((target("avx2,fma"))) inline __m256 geluAvx2(__m256 v) {
+  const __m256 e = erfAvx2(_mm256_mul_ps(v, _mm256_set1_ps(0.70710678118654752440f)));
+  return _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.5f), v), _mm256_add_ps(_mm256_set1_ps(1.0f), e));
+}
+
+__attribute__((target("avx2,fma"))) void geluAvx2(float* x, long n) {
+  long i = 0;
+  for (; i + 8 <= n; i += 8) {
+    _mm256_storeu_ps(x + i, geluAvx2(_mm256_loadu_ps(x + i)));
+  }
+  if (i < n) {  // tail through a padded register, same arithmetic
+    alignas(32) float buf[8] = {};
+    for (long j = i; j < n; ++j) buf[j - i] = x[j];
+    _mm256_store_ps(buf, geluAvx2(_mm256_load_ps(buf)));
+    for (long j = i; j < n; ++j) x[j] = buf[j - i];
+  }
+}
+
+}  // namespace
+#endif
+
 void geluInPlace(MatrixXf* x) {
+#ifdef HDVIO_TCN_AVX2
+  static const bool kHasAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (kHasAvx2) return geluAvx2(x->data(), x->size());
+#endif
   constexpr float kInvSqrt2 = 0.70710678118654752440f;
   auto a = x->array();
   a = 0.5f * a * (1.0f + (a * kInvSqrt2).erf());

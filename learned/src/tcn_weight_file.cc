@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <deque>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -15,7 +17,8 @@ namespace hdvio::learned {
 namespace {
 
 constexpr const char* kFormatName = "hdvio_tcn";
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 1;   // plain networks, no info
+constexpr int kFormatVersion2 = 2;  // residual networks, info, float32 encoding
 
 // Walks the meaningful lines of the file, splitting each into whitespace tokens.
 class LineCursor {
@@ -45,6 +48,12 @@ class LineCursor {
     throw InputError(name_, line_, problem);
   }
   long line() const { return line_; }
+  // The next n raw bytes (binary tensor data); false if the text ends first.
+  bool rawBytes(std::size_t n, std::string* out) {
+    out->resize(n);
+    in_.read(out->data(), static_cast<std::streamsize>(n));
+    return static_cast<std::size_t>(in_.gcount()) == n;
+  }
 
   void expectTokens(std::size_t n, const std::string& form) const {
     if (tokens_.size() != n) {
@@ -135,14 +144,188 @@ void writeVector(std::ostream& os, const std::string& name, const VectorXf& v) {
   os << '\n';
 }
 
+
+// Tensors in file order; the text and float32 encodings read them through this interface.
+class TensorReader {
+ public:
+  virtual ~TensorReader() = default;
+  virtual MatrixXf read(const std::string& name, long rows, long cols, bool vector) = 0;
+};
+
+class TextTensorReader : public TensorReader {
+ public:
+  explicit TextTensorReader(LineCursor& c) : c_(c) {}
+  MatrixXf read(const std::string& name, long rows, long cols, bool vector) override {
+    return readTensor(c_, name, rows, cols, vector);
+  }
+
+ private:
+  LineCursor& c_;
+};
+
+class Float32TensorReader : public TensorReader {
+ public:
+  Float32TensorReader(LineCursor& c, std::string bytes) : c_(c), bytes_(std::move(bytes)) {}
+  MatrixXf read(const std::string& name, long rows, long cols, bool) override {
+    const std::size_t n = static_cast<std::size_t>(rows * cols);
+    if (offset_ + 4 * n > bytes_.size()) c_.fail("float32 data too short for " + name);
+    MatrixXf m(rows, cols);
+    for (long i = 0; i < rows; ++i) {
+      for (long j = 0; j < cols; ++j) {
+        float v;
+        std::memcpy(&v, bytes_.data() + offset_, 4);
+        offset_ += 4;
+        if (!std::isfinite(v)) c_.fail(name + " holds a non-finite float");
+        m(i, j) = v;
+      }
+    }
+    return m;
+  }
+  bool exhausted() const { return offset_ == bytes_.size(); }
+
+ private:
+  LineCursor& c_;
+  std::string bytes_;
+  std::size_t offset_ = 0;
+};
+
+TcnWeights readWeights(LineCursor& c, TensorReader& r, const TcnArchitecture& a) {
+  TcnWeights w;
+  w.input_mean = r.read("input_mean", a.input_channels, 1, true);
+  w.input_std = r.read("input_std", a.input_channels, 1, true);
+  if (!(w.input_std.array() > 0.0f).all()) c.fail("input_std must be positive");
+  long width = a.input_channels;
+  int conv = 0;
+  for (std::size_t l = 0; l < a.layers.size(); ++l) {
+    const long out = a.layers[l].out_channels;
+    for (int j = 0; j < (a.residual ? 2 : 1); ++j, ++conv) {
+      const std::string p = "conv" + std::to_string(conv);
+      const long in = j == 0 ? width : out;
+      TcnConvWeights cw;
+      cw.weight = r.read(p + ".weight", out, a.kernel_size * in, false);
+      cw.bias = r.read(p + ".bias", out, 1, true);
+      w.conv.push_back(std::move(cw));
+    }
+    if (a.residual) {
+      TcnConvWeights sk;
+      if (width != out) {
+        const std::string p = "skip" + std::to_string(l);
+        sk.weight = r.read(p + ".weight", out, width, false);
+        sk.bias = r.read(p + ".bias", out, 1, true);
+      }
+      w.skip.push_back(std::move(sk));
+    }
+    width = out;
+  }
+  w.head_weight = r.read("head.weight", a.output_channels, width, false);
+  w.head_bias = r.read("head.bias", a.output_channels, 1, true);
+  if (a.variance_head) {
+    w.logvar_weight = r.read("logvar.weight", a.output_channels, width, false);
+    w.logvar_bias = r.read("logvar.bias", a.output_channels, 1, true);
+  }
+  return w;
+}
+
+std::string word(LineCursor& c, const std::string& key, const std::vector<std::string>& allowed) {
+  c.expectNext(key);
+  if (c.tokens()[0] != key) c.fail("expected \"" + key + " <value>\", found \"" + c.tokens()[0] + "\"");
+  c.expectTokens(2, key + " <value>");
+  for (const auto& a : allowed) {
+    if (c.tokens()[1] == a) return a;
+  }
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+  c.fail("unknown " + key + " '" + c.tokens()[1] + "' (expected one of: " + list + ")");
+}
+
+TcnFileInfo readInfo(LineCursor& c) {
+  TcnFileInfo info;
+  info.task = word(c, "task", {"force", "displacement"});
+  info.inputs = word(c, "inputs", {"thrust_gyro", "accel_gyro"});
+  c.expectNext("output_sigma");
+  if (c.tokens()[0] != "output_sigma") c.fail("expected \"output_sigma <s1> <s2> <s3>\" or \"output_sigma none\"");
+  if (c.tokens().size() == 2 && c.tokens()[1] == "none") return info;
+  c.expectTokens(4, "output_sigma <s1> <s2> <s3>");
+  for (std::size_t i = 1; i < 4; ++i) {
+    info.output_sigma.push_back(c.real(i));
+    if (info.output_sigma.back() <= 0.0) c.fail("output_sigma must be positive");
+  }
+  return info;
+}
+
+void writeFloat32(std::ostream& os, const MatrixXf& m) {
+  for (long i = 0; i < m.rows(); ++i) {
+    for (long j = 0; j < m.cols(); ++j) {
+      const float v = m(i, j);
+      char b[4];
+      std::memcpy(b, &v, 4);
+      os.write(b, 4);
+    }
+  }
+}
+
+// Every tensor in file order with its name (the writer's view of readWeights).
+std::vector<std::pair<std::string, const MatrixXf*>> tensorsInOrder(const Tcn& tcn,
+                                                                    std::deque<MatrixXf>* hold) {
+  const TcnArchitecture& a = tcn.architecture();
+  const TcnWeights& w = tcn.weights();
+  std::vector<std::pair<std::string, const MatrixXf*>> t;
+  auto vec = [&](const std::string& n, const VectorXf& v) {
+    hold->push_back(v);
+    t.push_back({"vector " + n, &hold->back()});
+  };
+  auto mat = [&](const std::string& n, const MatrixXf& m) { t.push_back({"matrix " + n, &m}); };
+  vec("input_mean", w.input_mean);
+  vec("input_std", w.input_std);
+  const int per_block = a.residual ? 2 : 1;
+  for (std::size_t l = 0; l < a.layers.size(); ++l) {
+    for (int j = 0; j < per_block; ++j) {
+      const std::size_t c = l * per_block + j;
+      mat("conv" + std::to_string(c) + ".weight", w.conv[c].weight);
+      vec("conv" + std::to_string(c) + ".bias", w.conv[c].bias);
+    }
+    if (a.residual && w.skip[l].weight.size() > 0) {
+      mat("skip" + std::to_string(l) + ".weight", w.skip[l].weight);
+      vec("skip" + std::to_string(l) + ".bias", w.skip[l].bias);
+    }
+  }
+  mat("head.weight", w.head_weight);
+  vec("head.bias", w.head_bias);
+  if (a.variance_head) {
+    mat("logvar.weight", w.logvar_weight);
+    vec("logvar.bias", w.logvar_bias);
+  }
+  return t;
+}
+
+void writeAtomically(const std::string& path, const std::string& content) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(path, 0, "cannot write the TCN weight file");
+    out << content;
+    if (!out.flush()) throw InputError(path, 0, "failed writing the TCN weight file");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw InputError(path, 0, "cannot move the TCN weight file into place");
+  }
+}
+
 }  // namespace
 
-Tcn parseTcnWeights(const std::string& text, const std::string& name) {
+TcnFile parseTcnFile(const std::string& text, const std::string& name) {
   LineCursor c(text, name);
-  c.expectNext("the header \"hdvio_tcn 1\"");
+  c.expectNext("the header \"hdvio_tcn <version>\"");
   if (c.tokens()[0] != kFormatName) c.fail("not an hdvio TCN weight file (no \"hdvio_tcn\" header)");
   c.expectTokens(2, "hdvio_tcn <version>");
-  if (c.integer(1, 0, 1000) != kFormatVersion) c.fail("unsupported format version " + c.tokens()[1]);
+  const long version = c.integer(1, 0, 1000);
+  if (version != kFormatVersion && version != kFormatVersion2) {
+    c.fail("unsupported format version " + c.tokens()[1]);
+  }
+  const bool v2 = version == kFormatVersion2;
+  TcnFileInfo info;
+  if (v2) info = readInfo(c);
 
   TcnArchitecture a;
   a.input_channels = static_cast<int>(keyValue(c, "input_channels", 1, 4096));
@@ -154,6 +337,7 @@ Tcn parseTcnWeights(const std::string& text, const std::string& name) {
   a.sample_rate_hz = c.real(1);
   if (a.sample_rate_hz <= 0.0) c.fail("sample_rate_hz must be positive");
   a.variance_head = keyValue(c, "variance_head", 0, 1) == 1;
+  if (v2) a.residual = keyValue(c, "residual", 0, 1) == 1;
   const long n_layers = keyValue(c, "layers", 1, 256);
   for (long l = 0; l < n_layers; ++l) {
     c.expectNext("layer <out_channels> <dilation>");
@@ -168,84 +352,114 @@ Tcn parseTcnWeights(const std::string& text, const std::string& name) {
     throw InputError(name, header_line, std::string("inconsistent architecture: ") + e.what());
   }
 
+  const std::string encoding = v2 ? word(c, "encoding", {"text", "float32"}) : "text";
   TcnWeights w;
-  w.input_mean = readTensor(c, "input_mean", a.input_channels, 1, true);
-  w.input_std = readTensor(c, "input_std", a.input_channels, 1, true);
-  if (!(w.input_std.array() > 0.0f).all()) c.fail("input_std must be positive");
-  long width = a.input_channels;
-  for (std::size_t l = 0; l < a.layers.size(); ++l) {
-    const std::string p = "conv" + std::to_string(l);
-    TcnConvWeights cw;
-    cw.weight = readTensor(c, p + ".weight", a.layers[l].out_channels, a.kernel_size * width, false);
-    cw.bias = readTensor(c, p + ".bias", a.layers[l].out_channels, 1, true);
-    w.conv.push_back(std::move(cw));
-    width = a.layers[l].out_channels;
-  }
-  w.head_weight = readTensor(c, "head.weight", a.output_channels, width, false);
-  w.head_bias = readTensor(c, "head.bias", a.output_channels, 1, true);
-  if (a.variance_head) {
-    w.logvar_weight = readTensor(c, "logvar.weight", a.output_channels, width, false);
-    w.logvar_bias = readTensor(c, "logvar.bias", a.output_channels, 1, true);
+  if (encoding == "text") {
+    TextTensorReader reader(c);
+    w = readWeights(c, reader, a);
+  } else {
+    const long count = keyValue(c, "data", 0, 1L << 28);
+    std::string bytes;
+    if (!c.rawBytes(static_cast<std::size_t>(count) * 4, &bytes)) {
+      c.fail("unexpected end of file inside the float32 data");
+    }
+    Float32TensorReader reader(c, std::move(bytes));
+    w = readWeights(c, reader, a);
+    if (!reader.exhausted()) c.fail("float32 data count does not match the architecture");
   }
   c.expectNext("end");
   if (c.tokens().size() != 1 || c.tokens()[0] != "end") c.fail("expected \"end\"");
   if (c.next()) c.fail("unexpected content after \"end\"");
   try {
-    return Tcn(std::move(a), std::move(w));
+    return TcnFile{Tcn(std::move(a), std::move(w)), std::move(info)};
   } catch (const std::invalid_argument& e) {
     throw InputError(name, 0, e.what());
   }
 }
 
-Tcn loadTcnWeights(const std::string& path) {
+Tcn parseTcnWeights(const std::string& text, const std::string& name) {
+  return parseTcnFile(text, name).tcn;
+}
+
+TcnFile loadTcnFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open the TCN weight file");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return parseTcnWeights(ss.str(), path);
+  return parseTcnFile(ss.str(), path);
 }
 
-std::string formatTcnWeights(const Tcn& tcn, const std::string& comment) {
+Tcn loadTcnWeights(const std::string& path) { return loadTcnFile(path).tcn; }
+
+namespace {
+
+std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string& comment,
+                      TcnEncoding encoding) {
   const TcnArchitecture& a = tcn.architecture();
-  const TcnWeights& w = tcn.weights();
   std::ostringstream os;
-  os << kFormatName << ' ' << kFormatVersion << '\n';
+  os << kFormatName << ' ' << (info ? kFormatVersion2 : kFormatVersion) << '\n';
   std::istringstream lines(comment);
   for (std::string line; std::getline(lines, line);) os << "# " << line << '\n';
+  if (info) {
+    os << "task " << info->task << "\ninputs " << info->inputs << "\noutput_sigma";
+    if (info->output_sigma.empty()) os << " none";
+    char buf[32];
+    for (double v : info->output_sigma) {
+      std::snprintf(buf, sizeof(buf), "%.9g", v);
+      os << ' ' << buf;
+    }
+    os << '\n';
+  }
   char rate[32];
   std::snprintf(rate, sizeof(rate), "%.17g", a.sample_rate_hz);
   os << "input_channels " << a.input_channels << "\nkernel_size " << a.kernel_size
      << "\nwindow " << a.window << "\nsample_rate_hz " << rate << "\nvariance_head "
-     << (a.variance_head ? 1 : 0) << "\nlayers " << a.layers.size() << '\n';
+     << (a.variance_head ? 1 : 0) << '\n';
+  if (info) os << "residual " << (a.residual ? 1 : 0) << '\n';
+  os << "layers " << a.layers.size() << '\n';
   for (const auto& l : a.layers) os << "layer " << l.out_channels << ' ' << l.dilation << '\n';
-  writeVector(os, "input_mean", w.input_mean);
-  writeVector(os, "input_std", w.input_std);
-  for (std::size_t l = 0; l < w.conv.size(); ++l) {
-    writeMatrix(os, "conv" + std::to_string(l) + ".weight", w.conv[l].weight);
-    writeVector(os, "conv" + std::to_string(l) + ".bias", w.conv[l].bias);
-  }
-  writeMatrix(os, "head.weight", w.head_weight);
-  writeVector(os, "head.bias", w.head_bias);
-  if (a.variance_head) {
-    writeMatrix(os, "logvar.weight", w.logvar_weight);
-    writeVector(os, "logvar.bias", w.logvar_bias);
+  std::deque<MatrixXf> hold;  // vectors as matrices; deque keeps their addresses
+  const auto tensors = tensorsInOrder(tcn, &hold);
+  if (info) os << "encoding " << (encoding == TcnEncoding::kText ? "text" : "float32") << '\n';
+  if (encoding == TcnEncoding::kText) {
+    for (const auto& [kind_name, m] : tensors) {
+      const std::string name = kind_name.substr(7);
+      if (kind_name[0] == 'v') {
+        writeVector(os, name, *m);
+      } else {
+        writeMatrix(os, name, *m);
+      }
+    }
+  } else {
+    long count = 0;
+    for (const auto& t : tensors) count += t.second->size();
+    os << "data " << count << '\n';
+    for (const auto& t : tensors) writeFloat32(os, *t.second);
+    os << '\n';
   }
   os << "end\n";
   return os.str();
 }
 
+}  // namespace
+
+std::string formatTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& comment,
+                          TcnEncoding encoding) {
+  return formatAny(tcn, &info, comment, encoding);
+}
+
+void saveTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& path,
+                 const std::string& comment, TcnEncoding encoding) {
+  writeAtomically(path, formatTcnFile(tcn, info, comment, encoding));
+}
+
+std::string formatTcnWeights(const Tcn& tcn, const std::string& comment) {
+  if (tcn.architecture().residual) return formatTcnFile(tcn, TcnFileInfo{}, comment);
+  return formatAny(tcn, nullptr, comment, TcnEncoding::kText);
+}
+
 void saveTcnWeights(const Tcn& tcn, const std::string& path, const std::string& comment) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path, 0, "cannot write the TCN weight file");
-    out << formatTcnWeights(tcn, comment);
-    if (!out.flush()) throw InputError(path, 0, "failed writing the TCN weight file");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw InputError(path, 0, "cannot move the TCN weight file into place");
-  }
+  writeAtomically(path, formatTcnWeights(tcn, comment));
 }
 
 }  // namespace hdvio::learned

@@ -29,12 +29,23 @@ torch::Tensor fromMatrix(const MatrixXf& m) {
 TcnModuleImpl::TcnModuleImpl(const TcnArchitecture& architecture) : arch_(architecture) {
   arch_.validate();
   int width = arch_.input_channels;
+  const int per_block = arch_.residual ? 2 : 1;
   for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
     const auto& spec = arch_.layers[l];
-    convs_.push_back(register_module(
-        "conv" + std::to_string(l),
-        torch::nn::Conv1d(torch::nn::Conv1dOptions(width, spec.out_channels, arch_.kernel_size)
-                              .dilation(spec.dilation))));
+    for (int j = 0; j < per_block; ++j) {
+      const int in = j == 0 ? width : spec.out_channels;
+      convs_.push_back(register_module(
+          "conv" + std::to_string(convs_.size()),
+          torch::nn::Conv1d(torch::nn::Conv1dOptions(in, spec.out_channels, arch_.kernel_size)
+                                .dilation(spec.dilation))));
+    }
+    if (arch_.residual) {
+      skips_.push_back(width == spec.out_channels
+                           ? torch::nn::Conv1d(nullptr)
+                           : register_module("skip" + std::to_string(l),
+                                             torch::nn::Conv1d(torch::nn::Conv1dOptions(
+                                                 width, spec.out_channels, 1))));
+    }
     width = spec.out_channels;
   }
   head_ = register_module("head", torch::nn::Conv1d(torch::nn::Conv1dOptions(width, arch_.output_channels, 1)));
@@ -54,9 +65,19 @@ void TcnModuleImpl::setNormalization(const torch::Tensor& mean, const torch::Ten
 torch::Tensor TcnModuleImpl::forward(const torch::Tensor& x) {
   namespace F = torch::nn::functional;
   torch::Tensor h = (x - mean_.view({1, -1, 1})) / std_.view({1, -1, 1});
-  for (std::size_t l = 0; l < convs_.size(); ++l) {
+  const int per_block = arch_.residual ? 2 : 1;
+  for (std::size_t c = 0; c < convs_.size(); ++c) {
+    const std::size_t l = c / per_block;
     const int64_t pad = static_cast<int64_t>(arch_.kernel_size - 1) * arch_.layers[l].dilation;
-    h = torch::gelu(convs_[l]->forward(F::pad(h, F::PadFuncOptions({pad, 0}))));
+    if (!arch_.residual) {
+      h = torch::gelu(convs_[c]->forward(F::pad(h, F::PadFuncOptions({pad, 0}))));
+      continue;
+    }
+    // Residual block: GELU(conv_b(GELU(conv_a(x)))) + skip(x), both convolutions at once.
+    const torch::Tensor a = torch::gelu(convs_[c]->forward(F::pad(h, F::PadFuncOptions({pad, 0}))));
+    const torch::Tensor b = torch::gelu(convs_[c + 1]->forward(F::pad(a, F::PadFuncOptions({pad, 0}))));
+    h = b + (skips_[l] ? skips_[l]->forward(h) : h);
+    ++c;
   }
   torch::Tensor out = head_->forward(h);
   if (arch_.variance_head) out = torch::cat({out, logvar_->forward(h)}, 1);
@@ -73,6 +94,13 @@ Tcn exportTcn(TcnModule& module) {
     // torch weight [out][in][k] -> Eigen (out, k * in): column j * in + i.
     const torch::Tensor wt = conv->weight.detach().permute({0, 2, 1}).reshape({conv->weight.size(0), -1});
     w.conv.push_back({toMatrix(wt), toVector(conv->bias)});
+  }
+  for (auto& skip : module->skips()) {
+    if (!skip) {
+      w.skip.push_back({});
+    } else {
+      w.skip.push_back({toMatrix(skip->weight.squeeze(2)), toVector(skip->bias)});
+    }
   }
   w.head_weight = toMatrix(module->head()->weight.squeeze(2));
   w.head_bias = toVector(module->head()->bias);
@@ -94,6 +122,12 @@ TcnModule importTcn(const Tcn& tcn) {
     const long out = conv->weight.size(0), in = conv->weight.size(1);
     conv->weight.copy_(fromMatrix(w.conv[l].weight).reshape({out, k, in}).permute({0, 2, 1}));
     conv->bias.copy_(fromMatrix(w.conv[l].bias).reshape({-1}));
+  }
+  for (std::size_t l = 0; l < module->skips().size(); ++l) {
+    auto& skip = module->skips()[l];
+    if (!skip) continue;
+    skip->weight.copy_(fromMatrix(w.skip[l].weight).unsqueeze(2));
+    skip->bias.copy_(fromMatrix(w.skip[l].bias).reshape({-1}));
   }
   module->head()->weight.copy_(fromMatrix(w.head_weight).unsqueeze(2));
   module->head()->bias.copy_(fromMatrix(w.head_bias).reshape({-1}));

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -80,6 +81,30 @@ TEST(VioBackend, TracksSimulatedFlightFromGroundTruthInit) {
   EXPECT_LT(e.position_rmse, 0.05);
   EXPECT_LT(e.velocity_rmse, 0.05);
   EXPECT_LT(e.yaw_free_rotation_deg, 1.0);
+}
+
+// The landmark budget bounds the window (and so the per-frame cost) without losing the
+// trajectory; every processed frame reports its own CPU time.
+TEST(VioBackend, LandmarkBudgetBoundsTheWindow) {
+  const Sequence& seq = flight().sequence;
+  VioRunOptions run;
+  run.init_from_groundtruth = true;
+  run.pixel_noise_sigma = 0.5;
+  VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
+  options.max_landmarks = 40;
+  const auto out = runVioOnTracks(seq, options, run);
+  ASSERT_GT(out.states.size(), 70u);
+  int max_in_window = 0;
+  for (std::size_t i = 1; i < out.frames.size(); ++i) {
+    max_in_window = std::max(max_in_window, out.frames[i].landmarks_in_window);
+    EXPECT_GT(out.frames[i].cpu_time_s, 0.0);
+    EXPECT_LE(out.frames[i].marginalization_cpu_s, out.frames[i].cpu_time_s);
+  }
+  EXPECT_LE(max_in_window, 40);
+  EXPECT_GE(max_in_window, 30);  // the budget is used, not starved
+  const Errors e = errorsAgainstTruth(seq, out.states);
+  std::printf("vio, 40 landmarks: position rmse %.4f m\n", e.position_rmse);
+  EXPECT_LT(e.position_rmse, 0.08);
 }
 
 TEST(VioBackend, StaticInitializationOnHoverStart) {

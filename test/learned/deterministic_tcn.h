@@ -51,6 +51,37 @@ inline Tcn deterministicTcn() {
   return Tcn(a, std::move(w));
 }
 
+// The IMO residual architecture (TcnArchitecture::imo(), 7 blocks, skips where the width
+// changes) with formula weights; tensors numbered after those of deterministicTcn's range.
+inline Tcn deterministicResidualTcn() {
+  const TcnArchitecture a = TcnArchitecture::imo();
+  TcnWeights w;
+  w.input_mean = formulaMatrix(6, 1, 100, 0.5);
+  w.input_std = (formulaMatrix(6, 1, 101, 0.4).array() + 1.0f).matrix();
+  int width = a.input_channels, tensor = 102;
+  auto conv = [&](int out, int in) {
+    const double s = 1.0 / std::sqrt(static_cast<double>(a.kernel_size * in));
+    TcnConvWeights c{formulaMatrix(out, a.kernel_size * in, tensor, s), formulaMatrix(out, 1, tensor + 1, 0.1)};
+    tensor += 2;
+    return c;
+  };
+  for (const auto& l : a.layers) {
+    w.conv.push_back(conv(l.out_channels, width));
+    w.conv.push_back(conv(l.out_channels, l.out_channels));
+    if (width == l.out_channels) {
+      w.skip.push_back({});
+    } else {
+      w.skip.push_back({formulaMatrix(l.out_channels, width, tensor, 1.0 / std::sqrt(width)),
+                        formulaMatrix(l.out_channels, 1, tensor + 1, 0.1)});
+      tensor += 2;
+    }
+    width = l.out_channels;
+  }
+  w.head_weight = formulaMatrix(3, width, tensor, 1.0 / std::sqrt(static_cast<double>(width)));
+  w.head_bias = formulaMatrix(3, 1, tensor + 1, 0.1);
+  return Tcn(a, std::move(w));
+}
+
 // 6 x steps inputs resembling flight: thrust around (0, 0, 9.8) m/s^2, gyro around 1 rad/s.
 inline MatrixXf deterministicInputs(int steps) {
   MatrixXf x(6, steps);
@@ -64,5 +95,6 @@ inline MatrixXf deterministicInputs(int steps) {
 }
 
 constexpr int kParitySteps = 24;
+constexpr int kResidualParitySteps = 64;  // > the IMO window of 50
 
 }  // namespace hdvio::learned::testing

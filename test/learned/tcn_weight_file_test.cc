@@ -71,7 +71,7 @@ TEST_F(MalformedWeights, MissingFile) {
 TEST_F(MalformedWeights, EmptyOrForeignFile) {
   expectFailure("", 0, "unexpected end of file");
   expectFailure("PK\x03\x04 binary junk\n", 1, "not an hdvio TCN weight file");
-  expectFailure("hdvio_tcn 2\n", 1, "unsupported format version");
+  expectFailure("hdvio_tcn 9\n", 1, "unsupported format version");
 }
 
 TEST_F(MalformedWeights, TruncatedFile) {

@@ -69,9 +69,14 @@ void writeResults(const RunResults& r, const std::string& out_dir) {
   for (const auto& f : r.timing)
     timing << f.t << ',' << f.backend_ms << ',' << f.solver_iterations << ',' << f.landmarks << ','
            << f.observations << ',' << (f.keyframe ? 1 : 0) << '\n';
+  auto stages = openOut(tmp / "timing_stages.csv");
+  stages << "stage,total [s],calls,mean [ms]\n";
+  for (const auto& s : r.stages)
+    stages << s.stage << ',' << s.total_s << ',' << s.calls << ','
+           << (s.calls > 0 ? 1e3 * s.total_s / s.calls : 0.0) << '\n';
   auto cfg = openOut(tmp / "config.yaml");
   cfg << r.effective_config;
-  for (auto* f : {&traj, &vel, &bias, &timing, &cfg}) {
+  for (auto* f : {&traj, &vel, &bias, &timing, &stages, &cfg}) {
     f->close();
     if (!*f) throw InputError(tmp.string(), 0, "writing results failed (disk full?)");
   }

@@ -17,6 +17,12 @@ struct SmootherOptions {
   OptimizerOptions optimizer;
   MarginalizationOptions marginalization;
   double lag_s = 0.0;  // > 0: after each update, marginalize keys older than newest - lag
+  // Schur solvers: variables whose key letter is listed are eliminated first (e.g. {'l'}, the
+  // landmarks). Without it Ceres picks its own independent set, which mixes in velocities and
+  // biases and so forces its slow dynamic-size Schur eliminator.
+  std::set<char> eliminate_first;
+  // Ceres stops when an iteration lowers the cost by less than this fraction.
+  double function_tolerance = 1e-6;
 };
 
 class SlidingWindowSmoother {

@@ -42,6 +42,8 @@ struct FrameResult {
   int outliers_removed = 0;
   int solver_iterations = 0;
   double solve_time_s = 0.0;
+  double cpu_time_s = 0.0;           // this thread's CPU time in addFrame (whole update)
+  double marginalization_cpu_s = 0.0;  // part of cpu_time_s spent in window maintenance
   NavState state;
 };
 

@@ -33,10 +33,18 @@ struct VioBackendOptions {
   double outlier_threshold_px = 6.0;  // reprojection error above which an observation is dropped
   double min_triangulation_angle_deg = 1.0;
   int min_observations = 2;
+  // At most this many landmarks in the window (a frontend's feature budget); new landmarks with
+  // the longest tracks enter first. Keeps the per-frame cost bounded in rich scenes.
+  int max_landmarks = 150;
+  std::string landmark_marginalization = "keyframes";  // all | keyframes | untracked
 
   int max_iterations = 8;
+  double function_tolerance = 1e-5;  // relative cost decrease that ends the solve early
   // Landmarks are eliminated first (Schur complement) unless sparse_normal_cholesky is chosen.
   std::string linear_solver = "dense_schur";  // dense_schur | sparse_schur | sparse_normal_cholesky
+  // Schur solvers eliminate exactly the landmarks (fixed 2x3x6 blocks, Ceres' specialized
+  // eliminator); false lets Ceres choose the independent set itself.
+  bool landmarks_first = true;
   double max_solver_time_s = 1e3;  // wall-clock budget; large by default so runs are deterministic
 
   ImuNoiseParams imu;

@@ -11,7 +11,13 @@
 namespace hdvio {
 
 struct VioRunOptions {
-  bool init_from_groundtruth = false;  // else: static (hover) initialization from the IMU
+  bool init_from_groundtruth = false;  // else: visual-inertial initialization (below)
+  // Visual-inertial initialization (vi_initialization.h) over this window; while the camera
+  // sees no parallax and the IMU says the vehicle is still, the static initialization is used
+  // instead. false: static (hover) initialization only, as for a start at rest.
+  bool visual_inertial_init = true;
+  double vi_init_window_s = 2.0;
+  double vi_init_timeout_s = 5.0;  // then the static guess, whatever the motion
   double static_init_window_s = 0.5;
   double guess_velocity_sigma = 1.0;  // prior sigmas of the guessed first state (m/s, rad)
   double guess_tilt_sigma = 0.1;
@@ -23,12 +29,17 @@ struct VioRunOutput {
   std::vector<NavState> states;       // one per processed frame, latest estimate at that time
   std::vector<FrameResult> frames;
   double backend_time_s = 0.0;        // wall time spent in the backend
+  bool visual_inertial_start = false;  // the first state came from the VI initialization
 };
 
 // Gravity direction (roll, pitch) from the mean accelerometer, yaw 0, zero velocity, gyro bias
 // from the mean gyro over the window ending at t. Valid for a static or hovering start.
 // Throws InputError if the window has no IMU samples.
 NavState staticInitialization(const std::vector<ImuSample>& imu, Timestamp t, double window_s);
+
+// True when the mean accelerometer over the window ending at t has the norm of gravity and the
+// gyro is near zero: the vehicle is at rest (or hovering very steadily).
+bool imuIsStill(const std::vector<ImuSample>& imu, Timestamp t, double window_s);
 
 // Ground-truth state at t (linear / slerp interpolation); throws InputError when t is outside.
 NavState groundTruthState(const Sequence& seq, Timestamp t);

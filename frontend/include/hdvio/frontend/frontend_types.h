@@ -86,6 +86,9 @@ struct FrameResult {
   int seeds = 0;               // depth filters alive
   double alignment_rms = 0.0;  // photometric RMS of sparse alignment
   double reprojection_rms_px = 0.0;
+  // Landmarks measured in this image (pose-refinement inliers, or the features of a new first
+  // keyframe): what a backend turns into reprojection factors. Empty when not tracked.
+  std::vector<KeyframeBundle::Observation> observations;
   std::optional<KeyframeBundle> keyframe;
   FrameTiming timing;
 };

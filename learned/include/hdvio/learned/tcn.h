@@ -9,6 +9,12 @@
 // which is torch.nn.Conv1d applied after F.pad(x, ((k-1) d, 0)). The receptive field is
 // 1 + (k-1) * sum(d); the window must be at least that long so that a window's last output
 // does not see padding. Computation is in float, as in training.
+//
+// Residual variant (architecture.residual, IMO/TLIO after Bai et al. 2018): each layer spec is
+// a temporal block of two causal convolutions with the block's dilation, each followed by
+// GELU, plus a skip connection (identity, or a 1x1 convolution when the width changes):
+//   h = GELU(conv_a(x)),  y = GELU(conv_b(h)) + skip(x).
+// Its receptive field is 1 + 2 (k-1) sum(d). No dropout / weight norm at inference.
 #include <string>
 #include <vector>
 
@@ -32,13 +38,20 @@ struct TcnArchitecture {
   std::vector<TcnLayerSpec> layers;
   int output_channels = 3;  // residual force, m/s^2 (mass-normalized), body frame
   bool variance_head = false;
+  bool residual = false;    // temporal blocks (see above) instead of single convolutions
 
   int receptiveField() const;
+  // Number of convolutions (2 per layer spec when residual).
+  int convolutionCount() const { return static_cast<int>(layers.size()) * (residual ? 2 : 1); }
   // Throws std::invalid_argument naming the first inconsistency.
   void validate() const;
   // The paper's network: 4 layers with 64 filters, 3 with 128, kernel 2, dilations
   // 1,1,2,2 | 1,1,1 -> receptive field 10 = 100 ms at 100 Hz.
   static TcnArchitecture paper(bool variance_head = false);
+  // The IMO displacement network: 7 residual blocks [64 x 4, 128 x 3], kernel 2, dilations
+  // 8, 8, 4, 1, 1, 1, 1 (receptive field 49 <= window 50, docs/imo_network.md says why this
+  // order), 6 inputs, 3 outputs (world-frame displacement).
+  static TcnArchitecture imo(int window = 50, double sample_rate_hz = 100.0);
 };
 
 struct TcnConvWeights {
@@ -52,7 +65,9 @@ struct TcnWeights {
   // Inputs are normalized as (x - input_mean) / input_std before the first layer.
   VectorXf input_mean;
   VectorXf input_std;
-  std::vector<TcnConvWeights> conv;
+  std::vector<TcnConvWeights> conv;  // convolutionCount(); residual: block l = conv[2l], conv[2l+1]
+  // Residual only: one per block; empty weight and bias = identity skip (same width).
+  std::vector<TcnConvWeights> skip;
   MatrixXf head_weight;  // output_channels x last width
   VectorXf head_bias;
   MatrixXf logvar_weight;  // empty unless variance_head
@@ -83,11 +98,21 @@ class Tcn {
 
  private:
   MatrixXf normalize(const MatrixXf& inputs) const;
+  // Runs the convolution stack on normalized inputs; out_steps[c] lists the steps each
+  // convolution must output (in the coordinates of `x`'s steps, see needed_).
+  MatrixXf runPlain(MatrixXf x, std::vector<int> column_of,
+                    const std::vector<std::vector<int>>& needed) const;
+  MatrixXf runResidual(MatrixXf x, std::vector<int> column_of,
+                       const std::vector<std::vector<int>>& needed) const;
+  MatrixXf run(MatrixXf x, std::vector<int> column_of,
+               const std::vector<std::vector<int>>& needed) const;
 
   TcnArchitecture arch_;
   TcnWeights weights_;
   // needed_[l]: the time steps of layer l's output that the window's last output depends on
   // (ascending, in window coordinates); needed_[layers] = {window - 1}. Fixed at construction.
+  // Residual: indexed by convolution, needed_[2l] = block l's input steps (taps of conv_a
+  // and the skip), needed_[2l+1] = conv_a's outputs, needed_[2l+2] = the block's outputs.
   std::vector<std::vector<int>> needed_;
 };
 

@@ -17,15 +17,49 @@
 //   [matrix logvar.weight 3 <width>   vector logvar.bias 3]
 //   end
 //
+// Version 2 (residual networks, displacement models, compact binary tensors) adds, in this
+// order after the version line: "task force|displacement", "inputs thrust_gyro|accel_gyro",
+// "output_sigma <s1> <s2> <s3>" or "output_sigma none", then the version-1 header lines, then
+// "residual 0|1" after variance_head, and "encoding text|float32" after the layer lines.
+// Residual tensors: per block l, conv<2l>, conv<2l+1> and, when the width changes,
+// skip<l>.weight (out x in) and skip<l>.bias. With float32 encoding the tensors (same order,
+// row-major) follow as "data <count>" + '\n' + count little-endian float32 + '\n' + "end".
+//
 // Blank lines and lines starting with '#' are ignored. Any other deviation (missing or extra
 // tensor, wrong shape, unparsable or non-finite number, data after "end") is an InputError
 // naming the file and the line.
 #include <string>
+#include <vector>
 
 #include "hdvio/learned/tcn.h"
 
 namespace hdvio::learned {
 
+// What a version-2 file says about the network beyond its layers.
+struct TcnFileInfo {
+  std::string task = "force";          // "force" (residual force) | "displacement" (IMO/TLIO)
+  std::string inputs = "thrust_gyro";  // "thrust_gyro" | "accel_gyro"
+  std::vector<double> output_sigma;    // empty or 3 positive values (output units)
+};
+
+enum class TcnEncoding { kText, kFloat32 };
+
+struct TcnFile {
+  Tcn tcn;
+  TcnFileInfo info;
+};
+
+// Versions 1 and 2. Version 1 files get the default info.
+TcnFile loadTcnFile(const std::string& path);
+TcnFile parseTcnFile(const std::string& text, const std::string& name);
+// Always version 2.
+std::string formatTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& comment = "",
+                          TcnEncoding encoding = TcnEncoding::kText);
+void saveTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& path,
+                 const std::string& comment = "", TcnEncoding encoding = TcnEncoding::kText);
+
+// The functions below read any version; formatTcnWeights writes version 1 for plain networks
+// (older readers keep working) and version 2 with default info for residual ones.
 Tcn loadTcnWeights(const std::string& path);
 Tcn parseTcnWeights(const std::string& text, const std::string& name);
 

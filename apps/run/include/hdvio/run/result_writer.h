@@ -1,7 +1,7 @@
 #pragma once
 // Writes an estimator's results in the formats of FORMATS.md: the TUM-order trajectory plus
 // CSVs of velocity, biases and external force (IMU frame) with the same timestamps, per-frame
-// timing and the effective configuration. Everything goes to a temporary folder that is
+// timing, per-stage timing and the effective configuration. Everything goes to a temporary folder that is
 // renamed into place at the end, so a failed run never leaves partial results.
 #include <string>
 #include <vector>
@@ -19,9 +19,17 @@ struct FrameTiming {
   bool keyframe = false;
 };
 
+// Wall time spent in one stage of a pipeline (frontend, backend, network, filter, ...).
+struct StageTiming {
+  std::string stage;
+  double total_s = 0.0;
+  int calls = 0;
+};
+
 struct RunResults {
   std::vector<NavState> states;
-  std::vector<FrameTiming> timing;
+  std::vector<FrameTiming> timing;   // per frame (visual methods)
+  std::vector<StageTiming> stages;   // per stage, whole run
   std::string effective_config;  // YAML
   bool has_force = false;
 };

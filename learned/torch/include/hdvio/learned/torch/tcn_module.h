@@ -2,6 +2,8 @@
 // The TCN of tcn.h as a libtorch module (training only; inference uses the Eigen Tcn).
 // Same layout: left zero padding of (k-1) d, Conv1d with dilation d, exact GELU, pointwise
 // heads implemented as kernel-1 convolutions. exportTcn/importTcn convert weights exactly.
+// Residual architectures: two convolutions per block (convs()[2l], convs()[2l+1]) and a
+// kernel-1 skip convolution when the width changes (skips()[l], null for identity).
 #include <torch/torch.h>
 
 #include "hdvio/learned/tcn.h"
@@ -19,6 +21,7 @@ class TcnModuleImpl : public torch::nn::Module {
   void setNormalization(const torch::Tensor& mean, const torch::Tensor& std);
 
   std::vector<torch::nn::Conv1d>& convs() { return convs_; }
+  std::vector<torch::nn::Conv1d>& skips() { return skips_; }
   torch::nn::Conv1d& head() { return head_; }
   torch::nn::Conv1d& logvarHead() { return logvar_; }
   torch::Tensor& inputMean() { return mean_; }
@@ -27,6 +30,7 @@ class TcnModuleImpl : public torch::nn::Module {
  private:
   TcnArchitecture arch_;
   std::vector<torch::nn::Conv1d> convs_;
+  std::vector<torch::nn::Conv1d> skips_;
   torch::nn::Conv1d head_{nullptr};
   torch::nn::Conv1d logvar_{nullptr};
   torch::Tensor mean_, std_;  // registered buffers, shape input_channels

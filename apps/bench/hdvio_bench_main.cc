@@ -1,0 +1,228 @@
+// hdvio_bench: a matrix of experiments x sequences (x seeds), each run as its own hdvio_run
+// process (--jobs in parallel), evaluated into one table like the papers' (docs/bench.md).
+//   hdvio_bench --matrix config/bench/sim_drag.yaml --out results/sim_drag --jobs 2
+//   hdvio_bench --matrix ... --out ... --emit-jobs jobs.txt    # for GNU parallel / job arrays
+#include <gflags/gflags.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "hdvio/bench/aggregate.h"
+#include "hdvio/bench/matrix.h"
+#include "hdvio/bench/process_pool.h"
+#include "hdvio/core/error.h"
+#include "hdvio/core/tool_main.h"
+#include "hdvio/eval/report.h"
+#include "hdvio/run/run_evaluation.h"
+
+DEFINE_string(matrix, "", "benchmark matrix YAML (config/bench/)");
+DEFINE_string(out, "", "output folder: sequences/, runs/, evaluation/, table.md, results.*");
+DEFINE_int32(jobs, 1, "processes run in parallel");
+DEFINE_string(emit_jobs, "", "write the commands (one per line) to this file ('-': stdout) and exit");
+DEFINE_string(only, "", "only runs whose '<sequence>/<experiment>[/seed<k>]' contains this");
+DEFINE_bool(force, false, "rerun runs that already completed");
+DEFINE_bool(aggregate_only, false, "run nothing; evaluate the runs present and write the table");
+DEFINE_string(hdvio_run, "", "hdvio_run binary (default: next to hdvio_bench, else the build tree's)");
+DEFINE_string(hdvio_sim, "", "hdvio_sim binary (default: next to hdvio_bench, else the build tree's)");
+DEFINE_string(python, "/usr/bin/python3", "python interpreter for the figures");
+
+namespace hdvio::bench {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path selfPath() {
+  std::error_code ec;
+  return fs::read_symlink("/proc/self/exe", ec);
+}
+
+std::string findTool(const std::string& flag_value, const std::string& name,
+                     const std::string& build_tree_path) {
+  std::error_code ec;
+  if (!flag_value.empty()) {
+    if (!fs::exists(flag_value, ec)) throw InputError("--" + name, 0, "no such file: " + flag_value);
+    return fs::absolute(flag_value).string();
+  }
+  const fs::path next_to_me = selfPath().parent_path() / name;
+  if (fs::exists(next_to_me, ec)) return next_to_me.string();
+  if (fs::exists(build_tree_path, ec)) return build_tree_path;
+  throw InputError("--" + name, 0, name + " not found next to hdvio_bench nor at " + build_tree_path);
+}
+
+std::string benchPlotScript() {
+  std::error_code ec;
+  const fs::path next_to_me = selfPath().parent_path() / "plot_bench.py";
+  if (fs::exists(next_to_me, ec)) return next_to_me.string();
+  return HDVIO_BENCH_PLOT_SCRIPT;
+}
+
+Command simCommand(const MatrixSequence& q, const std::string& sim, const std::string& out_dir) {
+  Command c;
+  c.label = "sequence " + q.name;
+  c.argv = {sim, "--config", q.sim_config, "--out", sequencePath(q, out_dir)};
+  if (!q.sim_images) c.argv.push_back("--no_images");
+  c.log = (fs::absolute(out_dir) / "sequences" / (q.name + ".log")).lexically_normal().string();
+  return c;
+}
+
+Command runCommand(const RunJob& j, const std::string& run) {
+  // Each run evaluates itself (result/evaluation/) without figures; the bench draws its own.
+  return {j.label, {run, "--config", j.config, "--dataset", j.dataset, "--out", j.result_dir,
+                    "--plots=false"}, j.log};
+}
+
+bool pythonHasMatplotlib() {
+  const std::string check = "'" + FLAGS_python + "' -c 'import matplotlib, numpy' > /dev/null 2>&1";
+  return std::system(check.c_str()) == 0;
+}
+
+void drawFigures(const Matrix& matrix, const std::string& out_dir) {
+  if (!matrix.plots) return;
+  if (!pythonHasMatplotlib()) {
+    std::fprintf(stderr, "hdvio_bench: note: figures skipped, %s with matplotlib and numpy is "
+                         "needed (Debian: python3-matplotlib)\n", FLAGS_python.c_str());
+    return;
+  }
+  std::vector<std::string> commands;
+  commands.push_back("'" + FLAGS_python + "' '" + benchPlotScript() + "' --dir '" + out_dir + "'");
+  const std::string eval_script = run::findEvalPlotScript();
+  std::error_code ec;
+  for (const auto& q : matrix.sequences) {
+    const fs::path d = fs::path(out_dir) / "evaluation" / q.name;
+    if (!eval_script.empty() && fs::exists(d / "metrics.json", ec))
+      commands.push_back("'" + FLAGS_python + "' '" + eval_script + "' --dir '" + d.string() + "'");
+  }
+  for (const auto& cmd : commands)
+    if (std::system((cmd + " > /dev/null").c_str()) != 0)
+      std::fprintf(stderr, "hdvio_bench: note: plotting failed: %s\n", cmd.c_str());
+}
+
+int emitJobs(const Matrix& matrix, const std::vector<RunJob>& jobs, const std::string& out_dir,
+             const std::string& run, const std::string& sim) {
+  std::ostringstream o;
+  o << "# hdvio_bench jobs for " << matrix.file << ": run phase 1 first, then the lines of phase 2\n"
+    << "# in any order or in parallel, then phase 3. Each line is independent.\n";
+  o << "# phase 1: sequences\n";
+  fs::create_directories(fs::path(out_dir) / "sequences");
+  for (const auto& q : matrix.sequences) {
+    bool used = false;
+    for (const auto& j : jobs) used = used || j.sequence == q.name;
+    if (used && q.simulated() && !fs::exists(sequencePath(q, out_dir)))
+      o << shellLine(simCommand(q, sim, out_dir)) << "\n";
+  }
+  o << "# phase 2: runs\n";
+  for (const auto& j : jobs) {
+    prepareJobConfig(matrix, j);
+    o << shellLine(runCommand(j, run)) << "\n";
+  }
+  o << "# phase 3: aggregate\n"
+    << shellLine({"", {selfPath().string(), "--matrix", matrix.file, "--out",
+                       fs::absolute(out_dir).lexically_normal().string(), "--aggregate_only"}, ""})
+    << "\n";
+  if (FLAGS_emit_jobs == "-") {
+    std::cout << o.str();
+  } else {
+    eval::writeFileAtomically(FLAGS_emit_jobs, o.str());
+    std::fprintf(stderr, "hdvio_bench: %zu runs written to %s\n", jobs.size(), FLAGS_emit_jobs.c_str());
+  }
+  return 0;
+}
+
+void generateSequences(const Matrix& matrix, const std::vector<RunJob>& jobs,
+                       const std::string& out_dir, const std::string& sim) {
+  std::vector<Command> commands;
+  for (const auto& q : matrix.sequences) {
+    bool used = false;
+    for (const auto& j : jobs) used = used || j.sequence == q.name;
+    if (used && q.simulated() && !fs::exists(sequencePath(q, out_dir)))
+      commands.push_back(simCommand(q, sim, out_dir));
+  }
+  if (commands.empty()) return;
+  fs::create_directories(fs::path(out_dir) / "sequences");
+  runCommands(commands, FLAGS_jobs, [&](std::size_t i, const CommandOutcome& o) {
+    if (o.exit_code == 0)
+      std::fprintf(stderr, "hdvio_bench: %s generated (%.1f s)\n", commands[i].label.c_str(), o.wall_s);
+    else  // its runs then fail with "sequence not found", reported in the table
+      std::fprintf(stderr, "hdvio_bench: %s FAILED (exit %d): %s\n", commands[i].label.c_str(),
+                   o.exit_code, lastErrorLine(commands[i].log).c_str());
+  });
+}
+
+void runJobs(const Matrix& matrix, const std::vector<RunJob>& jobs, const std::string& run) {
+  std::vector<Command> commands;
+  std::vector<const RunJob*> pending;
+  for (const auto& j : jobs) {
+    if (!FLAGS_force && runCompleted(j)) continue;
+    prepareJobConfig(matrix, j);
+    std::error_code ec;
+    fs::remove(wallTimeFile(j), ec);
+    commands.push_back(runCommand(j, run));
+    pending.push_back(&j);
+  }
+  std::fprintf(stderr, "hdvio_bench: %zu runs to do, %zu already complete, %d in parallel\n",
+               commands.size(), jobs.size() - commands.size(), FLAGS_jobs);
+  std::size_t finished = 0;
+  runCommands(commands, FLAGS_jobs, [&](std::size_t i, const CommandOutcome& o) {
+    ++finished;
+    if (o.exit_code == 0) {
+      eval::writeFileAtomically(wallTimeFile(*pending[i]), std::to_string(o.wall_s) + "\n");
+      std::fprintf(stderr, "hdvio_bench: [%zu/%zu] %s ok (%.1f s)\n", finished, commands.size(),
+                   commands[i].label.c_str(), o.wall_s);
+    } else {
+      std::fprintf(stderr, "hdvio_bench: [%zu/%zu] %s FAILED (exit %d): %s\n", finished,
+                   commands.size(), commands[i].label.c_str(), o.exit_code,
+                   lastErrorLine(commands[i].log).c_str());
+    }
+  });
+}
+
+int benchMain() {
+  if (FLAGS_matrix.empty() || FLAGS_out.empty())
+    throw InputError("", 0, "usage: hdvio_bench --matrix <yaml> --out <dir> [--jobs N] "
+                            "[--emit-jobs <file>|-] [--only <substring>] [--force]");
+  if (FLAGS_jobs < 1) throw InputError("--jobs", 0, "must be at least 1");
+  const Matrix matrix = loadMatrix(FLAGS_matrix);
+  const std::string out_dir = fs::absolute(FLAGS_out).lexically_normal().string();
+  const std::vector<RunJob> jobs = expandJobs(matrix, out_dir, FLAGS_only);
+  if (jobs.empty()) throw InputError("--only", 0, "no run matches '" + FLAGS_only + "'");
+
+  if (!FLAGS_aggregate_only) {
+    const std::string run = findTool(FLAGS_hdvio_run, "hdvio_run", HDVIO_BENCH_RUN_BINARY);
+    bool any_sim = false;
+    for (const auto& q : matrix.sequences) any_sim = any_sim || q.simulated();
+    const std::string sim =
+        any_sim ? findTool(FLAGS_hdvio_sim, "hdvio_sim", HDVIO_BENCH_SIM_BINARY) : "";
+    if (!FLAGS_emit_jobs.empty()) return emitJobs(matrix, jobs, out_dir, run, sim);
+    generateSequences(matrix, jobs, out_dir, sim);
+    runJobs(matrix, jobs, run);
+  }
+
+  const std::vector<RunMetrics> results = collectResults(matrix, jobs, out_dir);
+  std::cout << writeBenchReport(matrix, results, out_dir) << std::flush;
+  drawFigures(matrix, out_dir);
+  int not_ok = 0;
+  for (const auto& r : results) not_ok += r.status != "ok";
+  std::fprintf(stderr, "hdvio_bench: table in %s/table.md%s\n", out_dir.c_str(),
+               not_ok ? "; some runs have no numbers (listed in the table), exit 1" : "");
+  return not_ok ? 1 : 0;
+}
+
+}  // namespace
+}  // namespace hdvio::bench
+
+int main(int argc, char** argv) {
+  // Accept --emit-jobs and --aggregate-only spellings: gflags names use underscores.
+  for (int i = 1; i < argc; ++i) {
+    if (std::strncmp(argv[i], "--", 2) != 0) continue;
+    for (char* c = argv[i] + 2; *c && *c != '='; ++c)
+      if (*c == '-') *c = '_';
+  }
+  gflags::SetUsageMessage(
+      "hdvio_bench --matrix <yaml> --out <dir> [--jobs N] [--emit-jobs <file>|-] [--only <substring>]");
+  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  return hdvio::runTool(hdvio::bench::benchMain);
+}

@@ -1,0 +1,76 @@
+#pragma once
+// A benchmark matrix: experiments x sequences (x seeds), read from a strict YAML file
+// (docs/bench.md):
+//
+//   experiments:                      # one hdvio_run experiment each
+//     - {name: vio, config: ../experiments/vio.yaml}
+//   sequences:                        # a recorded flight, or a simulator config generated once
+//     - {name: clover, dataset: /data/blackbird/clover/val}
+//     - {name: tiny, sim: ../sim/ci_tiny.yaml, images: false}
+//   seeds: [1, 2, 3]                  # optional: written as run.seed into copies of the experiments
+//   metrics: {alignment: posyaw, plots: true}
+//
+// Relative paths are resolved against the matrix file's folder.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hdvio/eval/alignment.h"
+
+namespace hdvio::bench {
+
+struct MatrixExperiment {
+  std::string name;
+  std::string config;  // absolute path of the experiment YAML
+};
+
+struct MatrixSequence {
+  std::string name;
+  std::string dataset;     // absolute path of a recorded flight (empty for simulated ones)
+  std::string sim_config;  // absolute path of an hdvio_sim config (empty for recorded ones)
+  bool sim_images = true;  // false: hdvio_sim --no_images (landmark tracks only)
+  bool simulated() const { return !sim_config.empty(); }
+};
+
+struct Matrix {
+  std::string file;
+  std::vector<MatrixExperiment> experiments;
+  std::vector<MatrixSequence> sequences;
+  std::vector<int> seeds;  // empty: each experiment's own run.seed
+  eval::AlignmentType alignment = eval::AlignmentType::kPosYaw;
+  bool plots = true;
+};
+
+// Throws InputError (file:line: problem) for unknown keys, missing files, bad or repeated
+// names, an empty matrix, or a sequence with neither or both of `dataset` and `sim`.
+Matrix loadMatrix(const std::string& path);
+
+// One hdvio_run process of the matrix.
+struct RunJob {
+  std::string sequence;
+  std::string experiment;
+  std::optional<int> seed;
+  std::string label;        // "<sequence>/<experiment>[/seed<k>]", what --only matches
+  std::string dataset;      // the sequence hdvio_run reads
+  std::string config;       // the experiment YAML hdvio_run reads (a seeded copy with seeds)
+  std::string dir;          // <out>/runs/<sequence>/<experiment>[/seed<k>]
+  std::string result_dir;   // <dir>/result: hdvio_run --out
+  std::string log;          // <dir>/log.txt: hdvio_run's stdout and stderr
+};
+
+// Where a sequence is read from: its dataset, or <out>/sequences/<name> for simulated ones.
+std::string sequencePath(const MatrixSequence& seq, const std::string& out_dir);
+
+// Every (sequence, experiment[, seed]) whose label contains `only` (all when empty), sequences
+// in matrix order. Paths only; nothing is written.
+std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
+                               const std::string& only);
+
+// With seeds: writes job.config, a copy of the experiment with run.seed set and relative file
+// paths made absolute (so learned weights etc. still resolve from the copy's folder).
+void prepareJobConfig(const Matrix& matrix, const RunJob& job);
+
+// The run finished: hdvio_run moves its result into place only after writing everything.
+bool runCompleted(const RunJob& job);
+
+}  // namespace hdvio::bench

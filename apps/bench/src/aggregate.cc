@@ -1,0 +1,342 @@
+#include "hdvio/bench/aggregate.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "hdvio/bench/process_pool.h"
+#include "hdvio/eval/estimate_inputs.h"
+#include "hdvio/eval/report.h"
+#include "hdvio/run/run_evaluation.h"
+
+namespace hdvio::bench {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string estimateName(const RunJob& j) {
+  return j.seed ? j.experiment + ".s" + std::to_string(*j.seed) : j.experiment;
+}
+
+std::vector<std::pair<std::string, double>> readStages(const std::string& path) {
+  std::vector<std::pair<std::string, double>> stages;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // header: stage,total [s],calls,mean [ms]
+  while (std::getline(in, line)) {
+    const auto comma = line.find(',');
+    if (comma == std::string::npos) continue;
+    stages.emplace_back(line.substr(0, comma), std::atof(line.c_str() + comma + 1));
+  }
+  return stages;
+}
+
+double readNumber(const std::string& path) {
+  std::ifstream in(path);
+  double x = NAN;
+  return (in >> x) ? x : NAN;
+}
+
+void fillMetrics(const eval::EstimateResult& r, RunMetrics* m) {
+  m->ate_t_m = r.ate_translation.rmse;
+  m->ate_r_deg = r.ate_rotation_deg.rmse;
+  if (r.evo_rpe) m->rpe_t_m = r.evo_rpe_translation.rmse;
+  if (r.velocity) m->velocity_rmse = r.velocity->total.rmse;
+  if (r.force) {
+    m->force_total_rmse = r.force->total.total.rmse;
+    m->force_external_rmse = r.force->external.total.rmse;
+  }
+  m->poses = r.num_poses;
+  m->matched = r.num_matched;
+}
+
+std::string num(double x, int precision) {
+  if (!std::isfinite(x)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", precision, x);
+  return buf;
+}
+
+std::string full(double x, const char* missing) {
+  if (!std::isfinite(x)) return missing;
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.17g", x);
+  return buf;
+}
+
+std::string jstr(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) continue;
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += (c == '"') ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+// Mean of a metric over the completed runs (seeds) of one cell.
+double cellMean(const std::vector<const RunMetrics*>& runs, double RunMetrics::*field) {
+  double sum = 0.0;
+  int n = 0;
+  for (const RunMetrics* r : runs)
+    if (r->status == "ok" && std::isfinite(r->*field)) {
+      sum += r->*field;
+      ++n;
+    }
+  return n ? sum / n : NAN;
+}
+
+std::string shorten(const std::string& s, std::size_t n) {
+  return s.size() <= n ? s : s.substr(0, n - 3) + "...";
+}
+
+std::string markdownCell(const std::string& s) {
+  std::string out;
+  for (char c : s) out += (c == '|') ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
+}  // namespace
+
+std::string wallTimeFile(const RunJob& job) { return (fs::path(job.dir) / "wall_s.txt").string(); }
+
+std::vector<RunMetrics> collectResults(const Matrix& matrix, const std::vector<RunJob>& jobs,
+                                       const std::string& out_dir) {
+  std::vector<RunMetrics> out;
+  eval::EvaluationOptions options;
+  options.alignment = matrix.alignment;
+  for (const MatrixSequence& seq : matrix.sequences) {
+    std::vector<const RunJob*> seq_jobs;
+    for (const RunJob& j : jobs)
+      if (j.sequence == seq.name) seq_jobs.push_back(&j);
+    if (seq_jobs.empty()) continue;
+    const std::string path = seq_jobs.front()->dataset;
+
+    std::optional<eval::GroundTruth> gt;
+    std::string gt_problem;
+    if (!fs::exists(path)) {
+      gt_problem = "sequence not found: " + path;
+    } else {
+      try {
+        gt = run::loadRunGroundTruth(path, nullptr);
+        if (!gt) gt_problem = "the sequence has no ground truth";
+      } catch (const std::exception& e) {
+        gt_problem = std::string("ground truth: ") + e.what();
+      }
+    }
+    eval::EvaluationReport report;
+    report.ground_truth_source = path;
+    report.options = options;
+    if (gt) report.distances = eval::relativeErrorDistances(*gt, options);
+
+    for (const RunJob* j : seq_jobs) {
+      RunMetrics m;
+      m.job = *j;
+      m.process_wall_s = readNumber(wallTimeFile(*j));
+      if (!runCompleted(*j)) {
+        if (fs::exists(j->log)) {
+          m.status = "failed";
+          m.error = lastErrorLine(j->log);
+        }
+        out.push_back(m);
+        continue;
+      }
+      m.stages = readStages((fs::path(j->result_dir) / "timing_stages.csv").string());
+      m.runtime_s = 0.0;
+      for (const auto& s : m.stages) m.runtime_s += s.second;
+      if (!gt) {
+        m.status = "no_groundtruth";
+        m.error = gt_problem;
+        out.push_back(m);
+        continue;
+      }
+      try {
+        const eval::Estimate est = eval::loadEstimate(
+            {estimateName(*j), j->result_dir, std::nullopt, std::nullopt}, eval::TrajectoryFormat::kAuto);
+        if (est.trajectory.size() > 1)
+          m.duration_s = secondsBetween(est.trajectory.t.front(), est.trajectory.t.back());
+        report.results.push_back(eval::evaluateEstimate(*gt, est, options, report.distances));
+        fillMetrics(report.results.back(), &m);
+        m.status = "ok";
+        if (m.runtime_s > 0.0) m.realtime_factor = m.duration_s / m.runtime_s;
+      } catch (const std::exception& e) {
+        m.status = "failed";
+        m.error = std::string("evaluation: ") + e.what();
+      }
+      out.push_back(m);
+    }
+    if (gt && !report.results.empty())
+      eval::writeReport(report, *gt, (fs::path(out_dir) / "evaluation" / seq.name).string());
+  }
+  return out;
+}
+
+std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>& runs,
+                             const std::string& out_dir) {
+  // Cells: (sequence, experiment) -> its runs (one per seed).
+  std::map<std::pair<std::string, std::string>, std::vector<const RunMetrics*>> cells;
+  std::vector<std::string> seqs, exps;
+  for (const RunMetrics& r : runs) {
+    cells[{r.job.sequence, r.job.experiment}].push_back(&r);
+    if (std::find(seqs.begin(), seqs.end(), r.job.sequence) == seqs.end()) seqs.push_back(r.job.sequence);
+  }
+  for (const auto& e : matrix.experiments)
+    for (const RunMetrics& r : runs)
+      if (r.job.experiment == e.name) {
+        exps.push_back(e.name);
+        break;
+      }
+  std::map<std::string, int> counts;
+  bool any_force = false;
+  std::vector<std::string> stage_names;
+  for (const RunMetrics& r : runs) {
+    ++counts[r.status];
+    any_force = any_force || std::isfinite(r.force_total_rmse);
+    for (const auto& s : r.stages)
+      if (std::find(stage_names.begin(), stage_names.end(), s.first) == stage_names.end())
+        stage_names.push_back(s.first);
+  }
+
+  auto grid = [&](const std::string& title, const std::function<std::string(const std::vector<const RunMetrics*>&)>& cell) {
+    std::ostringstream t;
+    t << "\n### " << title << "\n\n| sequence |";
+    for (const auto& e : exps) t << " " << e << " |";
+    t << "\n|---|";
+    for (std::size_t i = 0; i < exps.size(); ++i) t << "---|";
+    t << "\n";
+    for (const auto& s : seqs) {
+      t << "| " << s << " |";
+      for (const auto& e : exps) t << " " << cell(cells[{s, e}]) << " |";
+      t << "\n";
+    }
+    return t.str();
+  };
+  // A cell's text when no run of it completed, else the mean over its seeds and a note.
+  auto status = [](const std::vector<const RunMetrics*>& rs, std::string* text) {
+    int ok = 0, bad = 0;
+    for (const RunMetrics* r : rs) (r->status == "ok" ? ok : bad)++;
+    if (ok == 0) {
+      if (rs.empty()) *text = "-";
+      else if (rs.front()->error.empty()) *text = rs.front()->status;
+      else *text = rs.front()->status + ": " + markdownCell(shorten(rs.front()->error, 70));
+      return false;
+    }
+    *text = rs.size() > 1 ? " (" + std::to_string(ok) + " seeds" +
+                                (bad ? ", " + std::to_string(bad) + " not ok" : "") + ")"
+                          : "";
+    return true;
+  };
+
+  std::ostringstream t;
+  t << "## hdvio_bench: " << matrix.file << "\n\n"
+    << "Alignment: " << eval::alignmentName(matrix.alignment)
+    << ". Runs: " << runs.size();
+  for (const auto& c : counts) t << ", " << c.second << " " << c.first;
+  t << (matrix.seeds.empty() ? "" : ". Cells are means over seeds") << ".\n";
+  t << grid("ATE_T [m] / ATE_R [deg] (rmse)", [&](const auto& rs) {
+    std::string note;
+    if (!status(rs, &note)) return note;
+    return num(cellMean(rs, &RunMetrics::ate_t_m), 3) + " / " +
+           num(cellMean(rs, &RunMetrics::ate_r_deg), 2) + note;
+  });
+  if (any_force)
+    t << grid("Force RMSE [m/s^2]: total non-thrust force / external force", [&](const auto& rs) {
+      std::string note;
+      if (!status(rs, &note)) return note;
+      return num(cellMean(rs, &RunMetrics::force_total_rmse), 3) + " / " +
+             num(cellMean(rs, &RunMetrics::force_external_rmse), 3) + note;
+    });
+  t << grid("Runtime: summed stage time [s] (x faster than real time)", [&](const auto& rs) {
+    std::string note;
+    if (!status(rs, &note)) return note;
+    return num(cellMean(rs, &RunMetrics::runtime_s), 2) + " (" +
+           num(cellMean(rs, &RunMetrics::realtime_factor), 1) + "x)" + note;
+  });
+  if (!stage_names.empty()) {
+    t << "\n### Wall time per stage [s]\n\n| run |";
+    for (const auto& s : stage_names) t << " " << s << " |";
+    t << " process [s] |\n|---|";
+    for (std::size_t i = 0; i <= stage_names.size(); ++i) t << "---|";
+    t << "\n";
+    for (const RunMetrics& r : runs) {
+      if (r.stages.empty()) continue;
+      t << "| " << r.job.label << " |";
+      for (const auto& name : stage_names) {
+        double v = NAN;
+        for (const auto& s : r.stages)
+          if (s.first == name) v = s.second;
+        t << " " << num(v, 2) << " |";
+      }
+      t << " " << num(r.process_wall_s, 1) << " |\n";
+    }
+  }
+  bool any_problem = false;
+  for (const RunMetrics& r : runs)
+    if (r.status != "ok") {
+      if (!any_problem) t << "\n### Runs without numbers\n\n";
+      any_problem = true;
+      t << "- " << r.job.label << ": " << r.status
+        << (r.error.empty() ? "" : ": " + shorten(r.error, 300)) << " (log: " << r.job.log << ")\n";
+    }
+
+  std::ostringstream csv;
+  csv << "sequence,experiment,seed,status,ate_t_m,ate_r_deg,rpe_t_m,velocity_rmse_m_s,"
+         "force_total_rmse_m_s2,force_external_rmse_m_s2,matched,poses,runtime_s,duration_s,"
+         "realtime_factor,process_wall_s,result_dir,error\n";
+  std::ostringstream json;
+  json << "{\n  \"matrix\": " << jstr(matrix.file) << ",\n  \"alignment\": "
+       << jstr(eval::alignmentName(matrix.alignment)) << ",\n  \"runs\": [";
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const RunMetrics& r = runs[i];
+    const std::string seed = r.job.seed ? std::to_string(*r.job.seed) : "";
+    csv << r.job.sequence << "," << r.job.experiment << "," << seed << "," << r.status << ","
+        << full(r.ate_t_m, "") << "," << full(r.ate_r_deg, "") << "," << full(r.rpe_t_m, "") << ","
+        << full(r.velocity_rmse, "") << "," << full(r.force_total_rmse, "") << ","
+        << full(r.force_external_rmse, "") << "," << r.matched << "," << r.poses << ","
+        << full(r.runtime_s, "") << "," << full(r.duration_s, "") << ","
+        << full(r.realtime_factor, "") << "," << full(r.process_wall_s, "") << ","
+        << csvField(r.job.result_dir) << "," << csvField(r.error) << "\n";
+    json << (i ? "," : "") << "\n    {\"sequence\": " << jstr(r.job.sequence)
+         << ", \"experiment\": " << jstr(r.job.experiment)
+         << ", \"seed\": " << (seed.empty() ? "null" : seed) << ", \"status\": " << jstr(r.status)
+         << ", \"ate_t_m\": " << full(r.ate_t_m, "null")
+         << ", \"ate_r_deg\": " << full(r.ate_r_deg, "null")
+         << ", \"rpe_t_m\": " << full(r.rpe_t_m, "null")
+         << ", \"velocity_rmse_m_s\": " << full(r.velocity_rmse, "null")
+         << ", \"force_total_rmse_m_s2\": " << full(r.force_total_rmse, "null")
+         << ", \"force_external_rmse_m_s2\": " << full(r.force_external_rmse, "null")
+         << ", \"matched\": " << r.matched << ", \"poses\": " << r.poses
+         << ", \"runtime_s\": " << full(r.runtime_s, "null")
+         << ", \"duration_s\": " << full(r.duration_s, "null")
+         << ", \"realtime_factor\": " << full(r.realtime_factor, "null")
+         << ", \"process_wall_s\": " << full(r.process_wall_s, "null") << ", \"stages\": {";
+    for (std::size_t k = 0; k < r.stages.size(); ++k)
+      json << (k ? ", " : "") << jstr(r.stages[k].first) << ": " << full(r.stages[k].second, "null");
+    json << "}, \"result_dir\": " << jstr(r.job.result_dir) << ", \"log\": " << jstr(r.job.log)
+         << ", \"error\": " << jstr(r.error) << "}";
+  }
+  json << "\n  ]\n}\n";
+
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  eval::writeFileAtomically((fs::path(out_dir) / "table.md").string(), t.str());
+  eval::writeFileAtomically((fs::path(out_dir) / "results.csv").string(), csv.str());
+  eval::writeFileAtomically((fs::path(out_dir) / "results.json").string(), json.str());
+  return t.str();
+}
+
+}  // namespace hdvio::bench

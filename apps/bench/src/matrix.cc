@@ -1,0 +1,195 @@
+#include "hdvio/bench/matrix.h"
+
+#include <cctype>
+#include <filesystem>
+#include <set>
+
+#include <yaml-cpp/yaml.h>
+
+#include "hdvio/core/config.h"
+#include "hdvio/core/error.h"
+#include "hdvio/eval/report.h"
+
+namespace hdvio::bench {
+namespace fs = std::filesystem;
+
+namespace {
+
+// The raw document, only for line numbers of problems ConfigReader cannot see (missing files).
+long lineOf(const YAML::Node& root, const std::string& list, std::size_t index,
+            const std::string& key) {
+  try {
+    const YAML::Node n = root[list][index][key];
+    if (n.IsDefined()) return n.Mark().line + 1;
+  } catch (const YAML::Exception&) {
+  }
+  return 0;
+}
+
+void checkName(const std::string& file, long line, const std::string& what,
+               const std::string& name, std::set<std::string>* seen) {
+  bool ok = !name.empty();
+  for (char c : name)
+    ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.');
+  if (!ok)
+    throw InputError(file, line, what + " name '" + name + "': use letters, digits, _ - . only");
+  if (!seen->insert(name).second)
+    throw InputError(file, line, what + " name '" + name + "' appears twice");
+}
+
+std::string resolve(const fs::path& base, const std::string& path) {
+  const fs::path p(path);
+  return (p.is_absolute() ? p : base / p).lexically_normal().string();
+}
+
+void requireExists(const std::string& file, long line, const std::string& key,
+                   const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec))
+    throw InputError(file, line, "key '" + key + "': no such file or folder: " + path);
+}
+
+// Relative strings that name an existing file next to the original experiment become absolute.
+void absolutizePaths(YAML::Node node, const fs::path& base) {
+  if (node.IsMap()) {
+    for (auto kv : node) absolutizePaths(kv.second, base);
+  } else if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) absolutizePaths(node[i], base);
+  } else if (node.IsScalar()) {
+    const std::string s = node.Scalar();
+    std::error_code ec;
+    if (!s.empty() && fs::path(s).is_relative() && fs::exists(base / s, ec))
+      node = (base / s).lexically_normal().string();
+  }
+}
+
+}  // namespace
+
+Matrix loadMatrix(const std::string& path) {
+  const ConfigReader cfg = ConfigReader::fromFile(path);
+  const YAML::Node raw = YAML::LoadFile(path);  // ConfigReader parsed it already
+  const fs::path base = fs::absolute(path).parent_path();
+  Matrix m;
+  m.file = fs::absolute(path).lexically_normal().string();
+
+  std::set<std::string> names;
+  const std::vector<ConfigReader> experiments = cfg.list("experiments");
+  for (std::size_t i = 0; i < experiments.size(); ++i) {
+    const ConfigReader& e = experiments[i];
+    MatrixExperiment x;
+    e.read("name", &x.name);
+    std::string config;
+    e.read("config", &config);
+    e.finish();
+    checkName(path, lineOf(raw, "experiments", i, "name"), "experiment", x.name, &names);
+    x.config = resolve(base, config);
+    requireExists(path, lineOf(raw, "experiments", i, "config"), e.path() + ".config", x.config);
+    m.experiments.push_back(x);
+  }
+
+  names.clear();
+  const std::vector<ConfigReader> sequences = cfg.list("sequences");
+  for (std::size_t i = 0; i < sequences.size(); ++i) {
+    const ConfigReader& s = sequences[i];
+    MatrixSequence q;
+    s.read("name", &q.name);
+    std::string dataset, sim;
+    s.readOptional("dataset", &dataset);
+    s.readOptional("sim", &sim);
+    if (s.has("sim")) s.readOptional("images", &q.sim_images);
+    s.finish();  // `images` without `sim` is an unknown key
+    checkName(path, lineOf(raw, "sequences", i, "name"), "sequence", q.name, &names);
+    if (dataset.empty() == sim.empty())
+      throw InputError(path, lineOf(raw, "sequences", i, "name"),
+                       "key '" + s.path() + "': give exactly one of 'dataset' and 'sim'");
+    if (!dataset.empty()) {
+      q.dataset = resolve(base, dataset);
+      requireExists(path, lineOf(raw, "sequences", i, "dataset"), s.path() + ".dataset", q.dataset);
+    } else {
+      q.sim_config = resolve(base, sim);
+      requireExists(path, lineOf(raw, "sequences", i, "sim"), s.path() + ".sim", q.sim_config);
+    }
+    m.sequences.push_back(q);
+  }
+  if (m.experiments.empty()) throw InputError(path, 0, "key 'experiments': the list is empty");
+  if (m.sequences.empty()) throw InputError(path, 0, "key 'sequences': the list is empty");
+
+  cfg.readOptional("seeds", &m.seeds);
+  std::set<int> seeds;
+  for (int s : m.seeds)
+    if (s < 0 || !seeds.insert(s).second)
+      throw InputError(path, raw["seeds"].Mark().line + 1,
+                       "key 'seeds': seeds must be distinct and non-negative");
+
+  const ConfigReader metrics = cfg.optionalSection("metrics");
+  std::string alignment = "posyaw";
+  metrics.readChoice("alignment", &alignment, {"none", "posyaw", "se3", "sim3"});
+  m.alignment = eval::parseAlignmentType(alignment);
+  metrics.readOptional("plots", &m.plots);
+  metrics.finish();
+  cfg.finish();
+  return m;
+}
+
+std::string sequencePath(const MatrixSequence& seq, const std::string& out_dir) {
+  if (!seq.simulated()) return seq.dataset;
+  return (fs::absolute(out_dir) / "sequences" / seq.name).lexically_normal().string();
+}
+
+std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
+                               const std::string& only) {
+  std::vector<RunJob> jobs;
+  const fs::path runs = fs::absolute(out_dir).lexically_normal() / "runs";
+  std::vector<std::optional<int>> seeds;
+  for (int s : matrix.seeds) seeds.push_back(s);
+  if (seeds.empty()) seeds.push_back(std::nullopt);
+  for (const MatrixSequence& q : matrix.sequences)
+    for (const MatrixExperiment& e : matrix.experiments)
+      for (const auto& seed : seeds) {
+        RunJob j;
+        j.sequence = q.name;
+        j.experiment = e.name;
+        j.seed = seed;
+        fs::path dir = runs / q.name / e.name;
+        j.label = q.name + "/" + e.name;
+        if (seed) {
+          dir /= "seed" + std::to_string(*seed);
+          j.label += "/seed" + std::to_string(*seed);
+        }
+        if (!only.empty() && j.label.find(only) == std::string::npos) continue;
+        j.dataset = sequencePath(q, out_dir);
+        j.dir = dir.string();
+        j.result_dir = (dir / "result").string();
+        j.log = (dir / "log.txt").string();
+        j.config = seed ? (dir / "experiment.yaml").string() : e.config;
+        jobs.push_back(j);
+      }
+  return jobs;
+}
+
+void prepareJobConfig(const Matrix& matrix, const RunJob& job) {
+  std::error_code ec;
+  fs::create_directories(job.dir, ec);
+  if (ec) throw InputError(job.dir, 0, "cannot create folder: " + ec.message());
+  if (!job.seed) return;
+  std::string original;
+  for (const auto& e : matrix.experiments)
+    if (e.name == job.experiment) original = e.config;
+  YAML::Node doc = YAML::LoadFile(original);
+  absolutizePaths(doc, fs::path(original).parent_path());
+  doc["run"]["seed"] = *job.seed;
+  YAML::Emitter out;
+  out << doc;
+  eval::writeFileAtomically(job.config, "# " + original + " with run.seed = " +
+                                            std::to_string(*job.seed) + " (hdvio_bench)\n" +
+                                            out.c_str() + "\n");
+}
+
+bool runCompleted(const RunJob& job) {
+  std::error_code ec;
+  const fs::path r(job.result_dir);
+  return fs::exists(r / "stamped_traj_estimate.txt", ec) && fs::exists(r / "config.yaml", ec) &&
+         fs::exists(r / "timing_stages.csv", ec);
+}
+
+}  // namespace hdvio::bench

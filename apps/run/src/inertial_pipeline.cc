@@ -1,0 +1,212 @@
+// Inertial methods (imo, tlio, model_ekf, net_only): the IMO filter family (docs/imo.md).
+//   imo       EKF + displacement network on thrust + gyro (Cioffi et al. 2023)
+//   tlio      EKF + displacement network on accelerometer + gyro (TLIO-style)
+//   model_ekf EKF + displacement of the thrust model (paper Eq. 2), no network
+//   net_only  network displacements concatenated, no filter
+// All start from the ground-truth state at the first IMU sample with ground truth.
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "hdvio/backend/imo/displacement_source.h"
+#include "hdvio/backend/imo/imo_runner.h"
+#include "hdvio/backend/vio_runner.h"
+#include "hdvio/core/error.h"
+#include "hdvio/learned/displacement_model.h"
+#include "hdvio/run/method_pipeline.h"
+#include "hdvio/run/progress.h"
+
+namespace hdvio::run {
+namespace {
+
+Vec3 readVec3(const ConfigReader& r, const std::string& key, const Vec3& fallback) {
+  std::vector<double> v{fallback.x(), fallback.y(), fallback.z()};
+  r.readVector(key, &v, 3);
+  return Vec3(v[0], v[1], v[2]);
+}
+
+std::string resolvePath(const std::string& path, const std::string& dir) {
+  const std::filesystem::path p(path);
+  return p.is_absolute() || dir.empty() ? path : (std::filesystem::path(dir) / p).string();
+}
+
+class InertialPipeline : public MethodPipeline {
+ public:
+  InertialPipeline(const std::string& method, const ConfigReader& cfg, const ExperimentFile& file)
+      : method_(method), file_(file) {
+    readFilter(cfg.optionalSection("filter"));
+    if (method_ == "model_ekf") {
+      const ConfigReader m = cfg.optionalSection("model");
+      m.readInRange("integration_step_s", &model_step_s_, 1e-4, 0.1);
+      m.readInRange("window_s", &options_.window_s, 0.05, 5.0);
+      m.finish();
+    } else {
+      const ConfigReader n = cfg.section("network");
+      std::string weights;
+      n.read("weights", &weights);
+      n.finish();
+      model_ = std::make_shared<const learned::DisplacementModel>(
+          learned::DisplacementModel::load(resolvePath(weights, file.dir)));
+      const bool wants_thrust = method_ == "imo";
+      const bool has_thrust_input =
+          model_->inputKind() == learned::DisplacementInputKind::kThrustGyro;
+      if ((method_ == "imo" || method_ == "tlio") && wants_thrust != has_thrust_input)
+        throw InputError(file.path, 0,
+                         "method " + method_ + " needs a " + (wants_thrust ? "thrust_gyro" : "accel_gyro") +
+                             " network, " + weights + " is " + learned::toString(model_->inputKind()));
+      options_.window_s = model_->windowSeconds();
+    }
+    const ConfigReader t = cfg.optionalSection("thrust");
+    t.readInRange("coefficient_over_mass", &thrust_coefficient_over_mass_, 0.0, 1.0);
+    thrust_axis_ = readVec3(t, "axis", thrust_axis_);
+    t.finish();
+    if (std::abs(thrust_axis_.norm() - 1.0) > 1e-6)
+      throw InputError(file.path, 0, "thrust.axis must be a unit vector");
+    const ConfigReader r = cfg.optionalSection("run");
+    r.readInRange("start_offset_s", &start_offset_s_, 0.0, 1e6);
+    r.readInRange("duration_s", &duration_s_, 0.0, 1e6);
+    r.finish();
+    try {
+      imo::checkRunOptions(options_);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(file.path, 0, e.what());
+    }
+  }
+
+  RunResults run(const Sequence& seq) override {
+    if (seq.imu.size() < 2) throw InputError(seq.source, 0, "method " + method_ + " needs IMU data");
+    if (!seq.hasGroundTruth())
+      throw InputError(seq.source, 0, "method " + method_ +
+                                          " starts from the ground-truth state; the sequence has none");
+    const std::vector<ThrustSample> thrust = thrustOf(seq);
+    const bool needs_thrust =
+        method_ == "model_ekf" ||
+        (model_ && model_->inputKind() == learned::DisplacementInputKind::kThrustGyro);
+    if (needs_thrust && thrust.empty())
+      throw InputError(seq.source, 0,
+                       "method " + method_ +
+                           " needs collective thrust (thrust samples, rotor speeds with a rotor "
+                           "calibration, or thrust.coefficient_over_mass in the config); the "
+                           "sequence has none");
+
+    // Start at the first IMU sample with ground truth (+ offset); optionally a limited span.
+    const Timestamp t_gt = seq.groundtruth.front().t + fromSeconds(start_offset_s_);
+    auto first = std::lower_bound(seq.imu.begin(), seq.imu.end(), t_gt,
+                                  [](const ImuSample& s, Timestamp t) { return s.t < t; });
+    if (first == seq.imu.end() || first->t > seq.groundtruth.back().t)
+      throw InputError(seq.source, 0, "no IMU sample inside the ground-truth span");
+    auto last = seq.imu.end();
+    if (duration_s_ > 0.0) {
+      const Timestamp t_stop = first->t + fromSeconds(duration_s_);
+      last = std::upper_bound(first, seq.imu.end(), t_stop,
+                              [](Timestamp t, const ImuSample& s) { return t < s.t; });
+    }
+    const std::vector<ImuSample> imu(first, last);
+    NavState init = groundTruthState(seq, imu.front().t);
+    if (!seq.groundtruth.front().has_velocity)
+      throw InputError(seq.source, 0, "method " + method_ + " needs ground-truth velocity to start");
+    init.bias << init_gyro_bias_, init_accel_bias_;
+
+    const imo::DisplacementSource source = makeSource(seq, thrust);
+    Progress progress(method_, imu.front().t, imu.back().t);
+    const auto on_progress = [&progress](Timestamp t) { progress.update(t); };
+    const imo::ImoRunOutput out = method_ == "net_only"
+                                      ? imo::runNetworkOnly(imu, init, options_, source, on_progress)
+                                      : imo::runImoFilter(imu, init, options_, source, on_progress);
+    progress.finish();
+
+    RunResults results;
+    results.states = out.states;
+    const int updates = out.updates + out.rejected + out.no_measurement;
+    results.stages.push_back({"propagation", out.propagation_s, static_cast<int>(imu.size())});
+    results.stages.push_back({model_ ? "network" : "model", out.source_s, updates});
+    if (method_ != "net_only") results.stages.push_back({"update", out.update_s, updates});
+    std::fprintf(stderr, "hdvio_run: %d updates applied, %d gated out, %d without measurement\n",
+                 out.updates, out.rejected, out.no_measurement);
+    return results;
+  }
+
+ private:
+  void readFilter(const ConfigReader& f) {
+    imo::ImoFilterOptions& o = options_.filter;
+    f.readInRange("gyro_noise_density", &o.gyro_noise_density, 0.0, 10.0);
+    f.readInRange("accel_noise_density", &o.accel_noise_density, 0.0, 100.0);
+    f.readInRange("gyro_random_walk", &o.gyro_random_walk, 0.0, 10.0);
+    f.readInRange("accel_random_walk", &o.accel_random_walk, 0.0, 100.0);
+    double att_deg = o.init_attitude_sigma * 180.0 / M_PI, yaw_deg = o.init_yaw_sigma * 180.0 / M_PI;
+    f.readInRange("init_attitude_sigma_deg", &att_deg, 0.0, 180.0);
+    f.readInRange("init_yaw_sigma_deg", &yaw_deg, 0.0, 180.0);
+    o.init_attitude_sigma = att_deg * M_PI / 180.0;
+    o.init_yaw_sigma = yaw_deg * M_PI / 180.0;
+    f.readInRange("init_velocity_sigma", &o.init_velocity_sigma, 0.0, 100.0);
+    f.readInRange("init_position_sigma", &o.init_position_sigma, 0.0, 1000.0);
+    f.readInRange("init_gyro_bias_sigma", &o.init_gyro_bias_sigma, 0.0, 10.0);
+    f.readInRange("init_accel_bias_sigma", &o.init_accel_bias_sigma, 0.0, 100.0);
+    f.readInRange("mahalanobis_factor", &o.mahalanobis_factor, -1.0, 1e6);
+    init_gyro_bias_ = readVec3(f, "init_gyro_bias", init_gyro_bias_);
+    init_accel_bias_ = readVec3(f, "init_accel_bias", init_accel_bias_);
+    f.readInRange("update_rate_hz", &options_.update_rate_hz, 1.0, 1000.0);
+    options_.measurement_sigma = readVec3(f, "measurement_sigma", options_.measurement_sigma);
+    if (!(options_.measurement_sigma.array() > 0.0).all())
+      throw InputError(file_.path, 0, "filter.measurement_sigma must be positive");
+    f.readOptional("use_source_covariance", &options_.use_source_covariance);
+    f.finish();
+  }
+
+  std::vector<ThrustSample> thrustOf(const Sequence& seq) const {
+    std::vector<ThrustSample> thrust = thrustSamples(seq);
+    if (thrust.empty() && thrust_coefficient_over_mass_ > 0.0)
+      for (const RotorSample& r : seq.rotor)
+        thrust.push_back({r.t, thrust_coefficient_over_mass_ * r.speeds.squaredNorm() * thrust_axis_});
+    return thrust;
+  }
+
+  imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust) const {
+    if (!model_)
+      return imo::makeThrustModelSource(thrust, model_step_s_, options_.measurement_sigma,
+                                        options_.filter.gravity);
+    auto model = model_;
+    const bool use_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
+    const Timestamp w = model->windowDuration();
+    auto covered = [w](const auto& stream, Timestamp t_end) {
+      return !stream.empty() && stream.front().t <= t_end - w && stream.back().t >= t_end;
+    };
+    // The sequence outlives the run; the thrust stream is copied into the source.
+    return [model, &seq, thrust, use_thrust, covered](const imo::DisplacementRequest& r)
+               -> std::optional<imo::DisplacementEstimate> {
+      if (!covered(seq.imu, r.t_end) || (use_thrust && !covered(thrust, r.t_end))) return std::nullopt;
+      const learned::MatrixXf window = learned::makeDisplacementWindow(
+          *model, seq.imu, thrust, r.t_end, r.world_from_body, r.gyro_bias, r.accel_bias);
+      const learned::DisplacementPrediction p = model->predict(window);
+      return imo::DisplacementEstimate{p.displacement, p.covariance, 0.0};
+    };
+  }
+
+  std::string method_;
+  ExperimentFile file_;
+  imo::ImoRunOptions options_;
+  std::shared_ptr<const learned::DisplacementModel> model_;
+  double model_step_s_ = 0.005;
+  double thrust_coefficient_over_mass_ = 0.0;
+  Vec3 thrust_axis_ = Vec3::UnitZ();
+  Vec3 init_gyro_bias_ = Vec3::Zero();
+  Vec3 init_accel_bias_ = Vec3::Zero();
+  double start_offset_s_ = 0.0;
+  double duration_s_ = 0.0;
+};
+
+}  // namespace
+
+const std::vector<std::string>& inertialMethods() {
+  static const std::vector<std::string> kMethods = {"imo", "tlio", "model_ekf", "net_only"};
+  return kMethods;
+}
+
+std::unique_ptr<MethodPipeline> makeInertialPipeline(const std::string& method,
+                                                     const ConfigReader& cfg,
+                                                     const ExperimentFile& file) {
+  return std::make_unique<InertialPipeline>(method, cfg, file);
+}
+
+}  // namespace hdvio::run

@@ -1,0 +1,110 @@
+// Visual methods (vio, vimo, vid, hdvio): the sliding-window backend over a sequence's frames,
+// whose landmark observations come from the semi-direct frontend on cam0 images or from the
+// simulator's landmark tracks (`frontend.source`); see docs/visual_pipeline.md.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "hdvio/backend/vio_runner.h"
+#include "hdvio/core/error.h"
+#include "hdvio/learned/residual_force_provider.h"
+#include "hdvio/run/method_pipeline.h"
+#include "hdvio/run/visual_image_runner.h"
+
+namespace hdvio::run {
+namespace {
+
+class VisualPipeline : public MethodPipeline {
+ public:
+  VisualPipeline(const std::string& method, const ConfigReader& cfg, const ExperimentFile& file)
+      : method_(parseVioMethod(method)), file_(file) {
+    options_ = loadVioBackendOptions(cfg.optionalSection("backend"), method_);
+    const ConfigReader r = cfg.optionalSection("run");
+    r.readOptional("init_from_groundtruth", &run_.init_from_groundtruth);
+    // Landmark tracks: visual-inertial initialization (static when the start is at rest).
+    // Images: the frontend needs a first pose, so the start is static or ground truth.
+    r.readOptional("visual_inertial_init", &run_.visual_inertial_init);
+    r.readInRange("vi_init_window_s", &run_.vi_init_window_s, 0.5, 10.0);
+    r.readInRange("vi_init_timeout_s", &run_.vi_init_timeout_s, 0.0, 60.0);
+    r.readInRange("pixel_noise_sigma", &run_.pixel_noise_sigma, 0.0, 100.0);
+    int seed = static_cast<int>(run_.seed);
+    r.readInRange("seed", &seed, 0, 1 << 30);
+    run_.seed = static_cast<std::uint32_t>(seed);
+    r.finish();
+    frontend_ = loadVisualFrontendConfig(cfg.optionalSection("frontend"));
+    // hdvio: the learned residual force (residual_force: {type: tcn, weights: ...}); zero if absent.
+    if (cfg.has("residual_force")) {
+      if (method_ != VioMethod::kHdvio)
+        throw InputError(file.path, 0, "residual_force is only used by method hdvio");
+      provider_ = learned::makeResidualForceProvider(cfg.section("residual_force"), file.dir);
+    }
+  }
+
+  RunResults run(const Sequence& seq) override {
+    const std::vector<ThrustSample> thrust = thrustSamples(seq);
+    if (usesDynamics(method_) && thrust.empty())
+      throw InputError(seq.name, 0,
+                       "method needs thrust: collective thrust (thrust0/ or rotor speeds with a "
+                       "rotor calibration), the sequence has none");
+    ResidualForceSource residual_force;
+    if (provider_) {
+      auto provider = provider_;
+      residual_force = [provider, &seq, thrust](Timestamp t_i, Timestamp t_j,
+                                                const Vec3& gyro_bias) {
+        const Timestamp from = t_i - fromSeconds(provider->historySeconds());
+        const auto inputs = learned::makeDynamicsInputs(seq.imu, thrust, from, t_j);
+        auto forces = std::make_shared<const std::vector<learned::ResidualForce>>(
+            provider->residualForces(inputs, t_i, t_j, gyro_bias));
+        return ResidualForceFn(
+            [forces](Timestamp t) { return learned::residualForceAt(*forces, t); });
+      };
+    }
+    RunResults results;
+    VioRunOutput out;
+    if (resolveObservationSource(frontend_.source, seq) == ObservationSource::kTracks) {
+      out = runVioOnTracks(seq, options_, run_, residual_force);
+      if (!run_.init_from_groundtruth)
+        std::fprintf(stderr, "hdvio_run: started from the %s initialization\n",
+                     out.visual_inertial_start ? "visual-inertial" : "static");
+    } else {
+      ImageRunOutput images = runVioOnImages(seq, options_, run_, frontend_, residual_force);
+      out = std::move(images.vio);
+      results.stages.push_back({"image_loading", images.load_time_s,
+                                static_cast<int>(images.images.size())});
+      results.stages.push_back({"frontend", images.frontend_time_s,
+                                static_cast<int>(images.images.size())});
+    }
+
+    results.states = out.states;
+    results.has_force = usesDynamics(method_);
+    for (const auto& f : out.frames)
+      results.timing.push_back({f.state.t, 1e3 * f.solve_time_s, f.solver_iterations,
+                                f.landmarks_in_window, f.observations_used, f.keyframe});
+    results.stages.push_back({"backend", out.backend_time_s, static_cast<int>(out.frames.size())});
+    return results;
+  }
+
+ private:
+  VioMethod method_;
+  ExperimentFile file_;
+  VioBackendOptions options_;
+  VioRunOptions run_;
+  VisualFrontendConfig frontend_;
+  std::shared_ptr<learned::ResidualForceProvider> provider_;
+};
+
+}  // namespace
+
+const std::vector<std::string>& visualMethods() {
+  static const std::vector<std::string> kMethods = {"vio", "vimo", "vid", "hdvio"};
+  return kMethods;
+}
+
+std::unique_ptr<MethodPipeline> makeVisualPipeline(const std::string& method,
+                                                   const ConfigReader& cfg,
+                                                   const ExperimentFile& file) {
+  return std::make_unique<VisualPipeline>(method, cfg, file);
+}
+
+}  // namespace hdvio::run

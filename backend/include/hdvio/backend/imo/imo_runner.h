@@ -1,0 +1,53 @@
+#pragma once
+// Drives the IMO filter over an IMU stream (as the IMO / TLIO releases do): propagate at IMU
+// rate, clone the state on a fixed grid at the update rate (partial propagation to the exact
+// grid time), and once the clones span one window, ask the displacement source for the
+// displacement between the window's first and last clone, update, and marginalize every clone
+// up to the window's start (so at most window * rate clones stay). Also the network-only
+// baseline: displacements concatenated without a filter. docs/imo.md.
+#include <functional>
+#include <vector>
+
+#include "hdvio/backend/imo/displacement_source.h"
+#include "hdvio/backend/imo/imo_filter.h"
+#include "hdvio/backend/nav_state.h"
+
+namespace hdvio::imo {
+
+struct ImoRunOptions {
+  ImoFilterOptions filter;
+  double update_rate_hz = 20.0;  // clones and updates
+  double window_s = 0.5;         // must be a whole number of update periods
+  // Measurement covariance: the source's own, or diag(measurement_sigma^2) (the IMO release
+  // uses a constant 0.01 m per axis).
+  bool use_source_covariance = false;
+  Vec3 measurement_sigma = Vec3::Constant(0.01);
+};
+
+struct ImoRunOutput {
+  std::vector<NavState> states;  // one per IMU sample after the first (filter), per update (net only)
+  double propagation_s = 0.0;    // thread CPU time per stage
+  double source_s = 0.0;
+  double update_s = 0.0;
+  int updates = 0;
+  int rejected = 0;      // by the chi-square gate
+  int no_measurement = 0;  // source returned nothing
+};
+
+// Throws std::invalid_argument for inconsistent options (window not a multiple of the period).
+void checkRunOptions(const ImoRunOptions& options);
+
+// The filter starts at init.t (must be an IMU sample time) from init's pose, velocity and
+// biases ([bg, ba]). on_progress (may be empty) gets the time after each IMU sample.
+ImoRunOutput runImoFilter(const std::vector<ImuSample>& imu, const NavState& init,
+                          const ImoRunOptions& options, const DisplacementSource& source,
+                          const std::function<void(Timestamp)>& on_progress = {});
+
+// Network only: orientation by gyro integration from init (biases fixed at init's), positions
+// p(t) = p(t - window) + displacement(t) on the update grid; the first window's positions
+// come from IMU dead reckoning from init. Velocity reported = displacement / window.
+ImoRunOutput runNetworkOnly(const std::vector<ImuSample>& imu, const NavState& init,
+                            const ImoRunOptions& options, const DisplacementSource& source,
+                            const std::function<void(Timestamp)>& on_progress = {});
+
+}  // namespace hdvio::imo

@@ -1,0 +1,209 @@
+#include "hdvio/backend/imo/imo_filter.h"
+
+#include <stdexcept>
+
+namespace hdvio::imo {
+namespace {
+
+constexpr int kTheta = 0, kVel = 3, kPos = 6, kBg = 9, kBa = 12;
+constexpr double kChi2Threshold3Dof = 11.345;  // 99 % quantile, 3 dof
+
+int cloneOffset(int k) { return kStateDim + kCloneDim * k; }
+
+// Re-orthonormalize through a unit quaternion (cheaper than an SVD at IMU rate).
+Mat3 orthonormalized(const Mat3& R) { return Quat(R).normalized().toRotationMatrix(); }
+
+}  // namespace
+
+PropagationStep propagateNominal(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel,
+                                 double dt, const Vec3& gravity) {
+  const Vec3 w = gyro - x.bg;
+  const Vec3 a = accel - x.ba;
+  const Vec3 phi = w * dt;
+  const Mat3 dR = so3Exp(phi);
+  // The specific force is rotated with the mid-step attitude R Exp(phi / 2): second-order
+  // accurate, where the release's R_k is first order (the tests measure both rates).
+  const Mat3 M = so3Exp(0.5 * phi);
+  const Mat3 Rm = x.R * M;
+  const Vec3 acc_w = Rm * a;
+
+  PropagationStep s;
+  s.state = x;
+  s.state.R = orthonormalized(x.R * dR);
+  s.state.v = x.v + (acc_w + gravity) * dt;
+  s.state.p = x.p + x.v * dt + 0.5 * (acc_w + gravity) * dt * dt;
+
+  // Error dynamics for R = R_hat Exp(dtheta) (right perturbation), the rest additive.
+  const Mat3 dacc_dtheta = -Rm * hat(a) * M.transpose();                     // d(acc_w)/d(dtheta)
+  const Mat3 dacc_dbg = Rm * hat(a) * rightJacobian(0.5 * phi) * (0.5 * dt);  // d(acc_w)/d(dbg)
+  s.A.setIdentity();
+  s.A.block<3, 3>(kTheta, kTheta) = dR.transpose();
+  s.A.block<3, 3>(kTheta, kBg) = -rightJacobian(phi) * dt;
+  s.A.block<3, 3>(kVel, kTheta) = dacc_dtheta * dt;
+  s.A.block<3, 3>(kVel, kBg) = dacc_dbg * dt;
+  s.A.block<3, 3>(kVel, kBa) = -Rm * dt;
+  s.A.block<3, 3>(kPos, kTheta) = 0.5 * dacc_dtheta * dt * dt;
+  s.A.block<3, 3>(kPos, kVel) = Mat3::Identity() * dt;
+  s.A.block<3, 3>(kPos, kBg) = 0.5 * dacc_dbg * dt * dt;
+  s.A.block<3, 3>(kPos, kBa) = -0.5 * Rm * dt * dt;
+
+  // Measurement noise enters exactly like a bias error (measured = true + bias + noise).
+  s.B.leftCols<3>() = s.A.middleCols<3>(kBg);
+  s.B.rightCols<3>() = s.A.middleCols<3>(kBa);
+  s.B.block<3, 3>(kBg, 0).setZero();
+  s.B.block<3, 3>(kBa, 3).setZero();
+  return s;
+}
+
+ImoFilter::ImoFilter(const ImoFilterOptions& options) : options_(options) {}
+
+void ImoFilter::initialize(const ImoNominalState& x0) {
+  x_ = x0;
+  clones_.clear();
+  P_ = MatX::Zero(kStateDim, kStateDim);
+  const auto& o = options_;
+  P_.diagonal().segment<3>(kTheta) << o.init_attitude_sigma * o.init_attitude_sigma,
+      o.init_attitude_sigma * o.init_attitude_sigma, o.init_yaw_sigma * o.init_yaw_sigma;
+  P_.diagonal().segment<3>(kVel).setConstant(o.init_velocity_sigma * o.init_velocity_sigma);
+  P_.diagonal().segment<3>(kPos).setConstant(o.init_position_sigma * o.init_position_sigma);
+  P_.diagonal().segment<3>(kBg).setConstant(o.init_gyro_bias_sigma * o.init_gyro_bias_sigma);
+  P_.diagonal().segment<3>(kBa).setConstant(o.init_accel_bias_sigma * o.init_accel_bias_sigma);
+  phi_.setIdentity();
+}
+
+void ImoFilter::propagate(const Vec3& gyro, const Vec3& accel, Timestamp t_next) {
+  const double dt = secondsBetween(x_.t, t_next);
+  if (dt < 0.0) throw std::logic_error("ImoFilter::propagate: time goes backwards");
+  if (dt == 0.0) return;
+  const PropagationStep s = propagateNominal(x_, gyro, accel, dt, options_.gravity);
+  x_ = s.state;
+  x_.t = t_next;
+
+  // Discrete noise from densities: a white sample held over dt has variance sigma^2 / dt.
+  Eigen::Matrix<double, 6, 1> w;
+  w.head<3>().setConstant(options_.gyro_noise_density * options_.gyro_noise_density / dt);
+  w.tail<3>().setConstant(options_.accel_noise_density * options_.accel_noise_density / dt);
+  Mat15 Pee = P_.topLeftCorner<kStateDim, kStateDim>();
+  Pee = s.A * Pee * s.A.transpose() + s.B * w.asDiagonal() * s.B.transpose();
+  Pee.diagonal().segment<3>(kBg).array() += options_.gyro_random_walk * options_.gyro_random_walk * dt;
+  Pee.diagonal().segment<3>(kBa).array() +=
+      options_.accel_random_walk * options_.accel_random_walk * dt;
+  P_.topLeftCorner<kStateDim, kStateDim>() = 0.5 * (Pee + Pee.transpose());
+  phi_ = s.A * phi_;
+}
+
+void ImoFilter::syncCrossCovariance() {
+  const int nc = dim() - kStateDim;
+  if (nc > 0 && !phi_.isIdentity(0.0)) {
+    const MatX cross = phi_ * P_.topRightCorner(kStateDim, nc);
+    P_.topRightCorner(kStateDim, nc) = cross;
+    P_.bottomLeftCorner(nc, kStateDim) = cross.transpose();
+  }
+  phi_.setIdentity();
+}
+
+MatX ImoFilter::covariance() const {
+  MatX P = P_;
+  const int nc = dim() - kStateDim;
+  if (nc > 0) {
+    const MatX cross = phi_ * P_.topRightCorner(kStateDim, nc);
+    P.topRightCorner(kStateDim, nc) = cross;
+    P.bottomLeftCorner(nc, kStateDim) = cross.transpose();
+  }
+  return P;
+}
+
+void ImoFilter::addClone() {
+  syncCrossCovariance();
+  const int n = dim();
+  MatX P(n + kCloneDim, n + kCloneDim);
+  P.topLeftCorner(n, n) = P_;
+  P.block(n, 0, kCloneDim, n) = P_.topRows(kCloneDim);  // clone = first 9 evolving rows
+  P.block(0, n, n, kCloneDim) = P_.leftCols(kCloneDim);
+  P.block(n, n, kCloneDim, kCloneDim) = P_.topLeftCorner(kCloneDim, kCloneDim);
+  P_ = std::move(P);
+  clones_.push_back({x_.t, x_.R, x_.v, x_.p});
+}
+
+void ImoFilter::marginalizeClone(int k) {
+  if (k < 0 || k >= static_cast<int>(clones_.size()))
+    throw std::logic_error("ImoFilter::marginalizeClone: no such clone");
+  syncCrossCovariance();
+  const int n = dim();
+  const int o = cloneOffset(k);
+  const int tail = n - o - kCloneDim;
+  MatX P(n - kCloneDim, n - kCloneDim);
+  P.topLeftCorner(o, o) = P_.topLeftCorner(o, o);
+  P.topRightCorner(o, tail) = P_.topRightCorner(o, tail);
+  P.bottomLeftCorner(tail, o) = P_.bottomLeftCorner(tail, o);
+  P.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
+  P_ = std::move(P);
+  clones_.erase(clones_.begin() + k);
+}
+
+int ImoFilter::findClone(Timestamp t) const {
+  for (std::size_t k = 0; k < clones_.size(); ++k)
+    if (clones_[k].t == t) return static_cast<int>(k);
+  return -1;
+}
+
+Vec3 ImoFilter::predictMeasurement(const RelativePositionMeasurement& m) const {
+  const ImoClone& ci = clones_.at(m.clone_i);
+  const ImoClone& cj = clones_.at(m.clone_j);
+  return cj.p - ci.p - m.velocity_coefficient * ci.v;
+}
+
+MatX ImoFilter::measurementJacobian(const RelativePositionMeasurement& m) const {
+  MatX H = MatX::Zero(3, dim());
+  H.block<3, 3>(0, cloneOffset(m.clone_j) + kPos) += Mat3::Identity();
+  H.block<3, 3>(0, cloneOffset(m.clone_i) + kPos) -= Mat3::Identity();
+  H.block<3, 3>(0, cloneOffset(m.clone_i) + kVel) -= m.velocity_coefficient * Mat3::Identity();
+  return H;
+}
+
+UpdateOutcome ImoFilter::update(const RelativePositionMeasurement& m) {
+  if (m.clone_i < 0 || m.clone_j < 0 || m.clone_i >= static_cast<int>(clones_.size()) ||
+      m.clone_j >= static_cast<int>(clones_.size()) || m.clone_i == m.clone_j)
+    throw std::logic_error("ImoFilter::update: bad clone indices");
+  syncCrossCovariance();
+  // H has only identity blocks: P H^T is a combination of three column blocks of P.
+  const int oi = cloneOffset(m.clone_i), oj = cloneOffset(m.clone_j);
+  const double c = m.velocity_coefficient;
+  MatX PHt = P_.middleCols<3>(oj + kPos) - P_.middleCols<3>(oi + kPos);
+  if (c != 0.0) PHt -= c * P_.middleCols<3>(oi + kVel);
+  Mat3 HPHt = PHt.middleRows<3>(oj + kPos) - PHt.middleRows<3>(oi + kPos);
+  if (c != 0.0) HPHt -= c * PHt.middleRows<3>(oi + kVel);
+  Mat3 S = HPHt + m.covariance;
+  S = 0.5 * (S + S.transpose());
+  const Vec3 r = m.z - predictMeasurement(m);
+  const Eigen::LDLT<Mat3> S_ldlt(S);
+  last_chi2_ = r.dot(S_ldlt.solve(r));
+  if (options_.mahalanobis_factor > 0.0 &&
+      last_chi2_ > options_.mahalanobis_factor * kChi2Threshold3Dof)
+    return UpdateOutcome::kRejectedByGate;
+
+  const MatX K = S_ldlt.solve(PHt.transpose()).transpose();  // n x 3
+  // Joseph form (I - KH) P (I - KH)' + K R K', expanded with P H' so it costs O(n^2).
+  const MatX KPHt = K * PHt.transpose();
+  MatX P = P_ - KPHt - KPHt.transpose() + K * S * K.transpose();
+  P_ = 0.5 * (P + P.transpose());
+  inject(K * r);
+  return UpdateOutcome::kApplied;
+}
+
+void ImoFilter::inject(const VecX& dx) {
+  if (dx.size() != dim()) throw std::logic_error("ImoFilter::inject: wrong size");
+  x_.R = orthonormalized(x_.R * so3Exp(dx.segment<3>(kTheta)));
+  x_.v += dx.segment<3>(kVel);
+  x_.p += dx.segment<3>(kPos);
+  x_.bg += dx.segment<3>(kBg);
+  x_.ba += dx.segment<3>(kBa);
+  for (std::size_t k = 0; k < clones_.size(); ++k) {
+    const int o = cloneOffset(static_cast<int>(k));
+    clones_[k].R = orthonormalized(clones_[k].R * so3Exp(dx.segment<3>(o + kTheta)));
+    clones_[k].v += dx.segment<3>(o + kVel);
+    clones_[k].p += dx.segment<3>(o + kPos);
+  }
+}
+
+}  // namespace hdvio::imo

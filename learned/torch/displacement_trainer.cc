@@ -1,0 +1,178 @@
+#include "hdvio/learned/torch/displacement_trainer.h"
+
+#include <chrono>
+#include <ctime>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include "hdvio/learned/displacement_examples.h"
+#include "hdvio/learned/tcn_weight_file.h"
+
+namespace hdvio::learned {
+namespace {
+
+// Exp of a batch of rotation vectors (B x 3) -> B x 3 x 3 (Rodrigues).
+torch::Tensor expBatch(const torch::Tensor& w) {
+  const torch::Tensor theta = w.norm(2, 1, true).clamp_min(1e-12);  // B x 1
+  const torch::Tensor a = w / theta;
+  const torch::Tensor zero = torch::zeros_like(a.select(1, 0));
+  const torch::Tensor K = torch::stack({zero, -a.select(1, 2), a.select(1, 1),
+                                        a.select(1, 2), zero, -a.select(1, 0),
+                                        -a.select(1, 1), a.select(1, 0), zero}, 1)
+                              .view({-1, 3, 3});
+  const torch::Tensor s = theta.sin().view({-1, 1, 1}), c = theta.cos().view({-1, 1, 1});
+  return torch::eye(3).unsqueeze(0) + s * K + (1.0 - c) * torch::matmul(K, K);
+}
+
+}  // namespace
+
+DisplacementSet buildDisplacementSet(const std::vector<FlightSamples>& flights, int window,
+                                     DisplacementInputKind kind, int stride) {
+  const std::vector<DisplacementExample> ex = displacementExamples(flights, window, stride);
+  const auto n = static_cast<int64_t>(ex.size());
+  DisplacementSet set;
+  set.inputs = torch::empty({n, 6, window}, torch::kFloat32);
+  set.rotations = torch::empty({n, window, 3, 3}, torch::kFloat32);
+  set.targets = torch::empty({n, 3}, torch::kFloat32);
+  auto in = set.inputs.accessor<float, 3>();
+  auto rot = set.rotations.accessor<float, 4>();
+  auto tg = set.targets.accessor<float, 2>();
+  for (int64_t i = 0; i < n; ++i) {
+    const FlightSamples& f = flights[ex[i].flight];
+    const MatrixXf x = worldWindow(f, ex[i].end, window, kind);
+    const Vec3 d = displacementTarget(f, ex[i].end, window);
+    for (int k = 0; k < window; ++k) {
+      for (int c = 0; c < 6; ++c) in[i][c][k] = x(c, k);
+      const Mat3 R = f.q_WB[ex[i].end + 1 - window + k].toRotationMatrix();
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) rot[i][k][r][c] = static_cast<float>(R(r, c));
+    }
+    for (int c = 0; c < 3; ++c) tg[i][c] = static_cast<float>(d(c));
+  }
+  return set;
+}
+
+DisplacementTrainer::DisplacementTrainer(TcnArchitecture architecture, DisplacementTrainOptions options)
+    : arch_(std::move(architecture)), options_(std::move(options)), module_(arch_) {
+  if (arch_.input_channels != 6) throw std::invalid_argument("the displacement network takes 6 inputs");
+}
+
+torch::Tensor DisplacementTrainer::augment(const DisplacementSet& set, const torch::Tensor& idx) const {
+  const torch::Tensor x = set.inputs.index_select(0, idx);  // B x 6 x W
+  const int64_t b = x.size(0);
+  const torch::Tensor R = set.rotations.index_select(0, idx);  // B x W x 3 x 3
+  // A constant bias error e in the body frame adds R_k e to the world-frame sample k.
+  auto biased = [&](const torch::Tensor& part, double range) {
+    if (range <= 0.0) return part;
+    const torch::Tensor e = (2.0 * torch::rand({b, 1, 3, 1}) - 1.0) * range;
+    return part + torch::matmul(R, e).squeeze(-1).transpose(1, 2);  // B x 3 x W
+  };
+  torch::Tensor force = x.slice(1, 0, 3), gyro = biased(x.slice(1, 3, 6), options_.gyro_bias_range);
+  if (options_.kind == DisplacementInputKind::kAccelGyro) force = biased(force, options_.accel_bias_range);
+  if (options_.orientation_sigma_deg > 0.0) {
+    const torch::Tensor dR = expBatch(torch::randn({b, 3}) * (options_.orientation_sigma_deg * M_PI / 180.0));
+    force = torch::matmul(dR, force);
+    gyro = torch::matmul(dR, gyro);
+  }
+  return torch::cat({force, gyro}, 1);
+}
+
+double DisplacementTrainer::pass(const DisplacementSet& set, torch::optim::Adam* optimizer) {
+  const bool training = optimizer != nullptr;
+  module_->train(training);
+  std::optional<torch::NoGradGuard> no_grad;
+  if (!training) no_grad.emplace();
+  const int64_t n = set.size();
+  const torch::Tensor order = training ? torch::randperm(n) : torch::arange(n);
+  double sum = 0.0;
+  for (int64_t start = 0; start < n; start += options_.batch_size) {
+    const torch::Tensor idx = order.slice(0, start, std::min<int64_t>(n, start + options_.batch_size));
+    const torch::Tensor x = training ? augment(set, idx) : set.inputs.index_select(0, idx);
+    const torch::Tensor out = module_->forward(x).select(2, x.size(2) - 1).slice(1, 0, 3);  // B x 3
+    const torch::Tensor err = out - set.targets.index_select(0, idx);
+    const torch::Tensor loss = err.square().sum(1).mean();
+    if (training) {
+      optimizer->zero_grad();
+      loss.backward();
+      optimizer->step();
+    }
+    sum += err.square().sum().item<double>();
+  }
+  return n > 0 ? sum / static_cast<double>(n) : 0.0;
+}
+
+DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSamples>& train_flights,
+                                                      const std::vector<FlightSamples>& validation_flights,
+                                                      std::ostream& log) {
+  using Clock = std::chrono::steady_clock;
+  torch::set_num_threads(options_.threads);
+  torch::manual_seed(static_cast<uint64_t>(options_.seed));
+  for (const auto& f : train_flights) {
+    if (std::abs(f.rate_hz - arch_.sample_rate_hz) > 1e-6) {
+      throw std::invalid_argument(f.name + " is sampled at a different rate than the model");
+    }
+  }
+  const DisplacementSet train_set =
+      buildDisplacementSet(train_flights, arch_.window, options_.kind, options_.stride_samples);
+  const DisplacementSet val_set =
+      buildDisplacementSet(validation_flights, arch_.window, options_.kind, options_.stride_samples);
+  if (train_set.size() == 0 || val_set.size() == 0) {
+    throw std::invalid_argument("no complete training or validation window");
+  }
+  const torch::Tensor flat = train_set.inputs.transpose(0, 1).reshape({6, -1});
+  module_->setNormalization(flat.mean(1), flat.std(1).clamp_min(1e-3));
+  log << "training windows " << train_set.size() << ", validation windows " << val_set.size()
+      << ", window " << arch_.window << " samples, receptive field " << arch_.receptiveField()
+      << ", parameters " << exportTcn(module_).parameterCount() << "\n";
+
+  torch::optim::Adam optimizer(module_->parameters(), torch::optim::AdamOptions(options_.learning_rate));
+  DisplacementTrainingResult result{{}, 0, exportTcn(module_), {}};
+  double best = std::numeric_limits<double>::infinity();
+  const auto t_start = Clock::now();
+  for (int epoch = 0; epoch <= options_.max_epochs; ++epoch) {
+    const auto t0 = Clock::now();
+    DisplacementEpoch s;
+    s.epoch = epoch;
+    s.train_loss = pass(train_set, epoch > 0 ? &optimizer : nullptr);
+    s.validation_loss = pass(val_set, nullptr);
+    s.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    result.history.push_back(s);
+    log << "epoch " << std::setw(3) << epoch << "  train " << std::setprecision(5) << s.train_loss
+        << "  val " << s.validation_loss << " m^2  " << std::setprecision(3) << s.seconds << " s (process CPU "
+        << static_cast<double>(std::clock()) / CLOCKS_PER_SEC / 60.0 << " min)";
+    if (s.validation_loss < best) {
+      best = s.validation_loss;
+      result.best_epoch = epoch;
+      result.best = exportTcn(module_);
+      if (!options_.checkpoint_dir.empty()) {
+        saveTcnWeights(result.best, options_.checkpoint_dir + "/best.tcn", "best epoch " + std::to_string(epoch));
+      }
+      log << "  *";
+    }
+    log << std::endl;
+    if (epoch - result.best_epoch >= options_.patience) {
+      log << "early stop: no validation improvement for " << options_.patience << " epochs\n";
+      break;
+    }
+    if (std::chrono::duration<double>(Clock::now() - t_start).count() > 60.0 * options_.max_minutes) {
+      log << "stop: time budget of " << options_.max_minutes << " min used\n";
+      break;
+    }
+  }
+  // Per-axis validation RMSE of the best weights (Eigen inference, as deployed).
+  const std::vector<DisplacementExample> ex =
+      displacementExamples(validation_flights, arch_.window, options_.stride_samples);
+  Eigen::Vector3d sq = Eigen::Vector3d::Zero();
+  for (const auto& e : ex) {
+    const FlightSamples& f = validation_flights[e.flight];
+    const Vec3 d = result.best.predictWindow(worldWindow(f, e.end, arch_.window, options_.kind)).force.cast<double>();
+    sq += (d - displacementTarget(f, e.end, arch_.window)).cwiseAbs2();
+  }
+  result.validation_rmse = (sq / static_cast<double>(ex.size())).cwiseSqrt();
+  return result;
+}
+
+}  // namespace hdvio::learned

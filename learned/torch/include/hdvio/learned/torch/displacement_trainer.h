@@ -1,0 +1,79 @@
+#pragma once
+// Trains the displacement network of IMO / TLIO-style inertial odometry (displacement_model.h)
+// with an MSE loss on the world-frame displacement over the window. Augmentation per window
+// and epoch, as the filter will see: the ground-truth attitude that rotates the inputs to the
+// world is perturbed by a small random rotation Exp(delta) R_k (constant over the window), and
+// a constant gyro (and, for accelerometer inputs, accelerometer) bias error is added.
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "hdvio/learned/displacement_model.h"
+#include "hdvio/learned/flight_samples.h"
+#include "hdvio/learned/torch/tcn_module.h"
+
+namespace hdvio::learned {
+
+struct DisplacementTrainOptions {
+  DisplacementInputKind kind = DisplacementInputKind::kThrustGyro;
+  int stride_samples = 5;              // spacing of window ends (0.05 s at 100 Hz)
+  int batch_size = 128;
+  double learning_rate = 5e-4;         // Adam
+  int max_epochs = 200;
+  int patience = 20;                   // epochs without validation improvement before stopping
+  double orientation_sigma_deg = 2.0;  // std of each axis of delta
+  double gyro_bias_range = 0.01;       // rad/s, uniform in [-r, r] per axis
+  double accel_bias_range = 0.2;       // m/s^2, accelerometer inputs only
+  int seed = 7;
+  int threads = 1;
+  double max_minutes = 10.0;           // wall-clock budget; stops after the epoch that exceeds it
+  std::string checkpoint_dir;          // "" = none; else best.tcn at each improvement
+};
+
+struct DisplacementEpoch {
+  int epoch = 0;
+  double train_loss = 0.0;       // mean squared displacement error, m^2 (augmented inputs)
+  double validation_loss = 0.0;  // same on the validation windows (unperturbed inputs)
+  double seconds = 0.0;
+};
+
+struct DisplacementTrainingResult {
+  std::vector<DisplacementEpoch> history;  // epoch 0 = before training
+  int best_epoch = 0;
+  Tcn best;                                // weights of the best validation epoch
+  Eigen::Vector3d validation_rmse = Eigen::Vector3d::Zero();  // per axis, m, of `best`
+};
+
+// Windows of a flight set as tensors.
+struct DisplacementSet {
+  torch::Tensor inputs;     // N x 6 x W, world frame (ground-truth attitude)
+  torch::Tensor rotations;  // N x W x 3 x 3, world_from_body of each sample
+  torch::Tensor targets;    // N x 3, m
+  int64_t size() const { return inputs.defined() ? inputs.size(0) : 0; }
+};
+
+DisplacementSet buildDisplacementSet(const std::vector<FlightSamples>& flights, int window,
+                                     DisplacementInputKind kind, int stride);
+
+class DisplacementTrainer {
+ public:
+  DisplacementTrainer(TcnArchitecture architecture, DisplacementTrainOptions options);
+
+  // Normalization statistics come from the training windows. Logs one line per epoch.
+  DisplacementTrainingResult train(const std::vector<FlightSamples>& train_flights,
+                                   const std::vector<FlightSamples>& validation_flights,
+                                   std::ostream& log);
+
+  TcnModule& module() { return module_; }
+
+ private:
+  // Mean squared error (m^2) of one pass; trains (with augmentation) when optimizer is given.
+  double pass(const DisplacementSet& set, torch::optim::Adam* optimizer);
+  torch::Tensor augment(const DisplacementSet& set, const torch::Tensor& idx) const;
+
+  TcnArchitecture arch_;
+  DisplacementTrainOptions options_;
+  TcnModule module_;
+};
+
+}  // namespace hdvio::learned

@@ -1,0 +1,174 @@
+// hdvio_bench end to end: bad matrices exit 2 with one error line, --emit-jobs writes one
+// command per line, and a tiny matrix (ci_tiny simulated, vio + vimo, --jobs 2) produces a table
+// whose numbers are the ones hdvio_eval computes for the same folders.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code = -1;
+  std::string output;  // stdout + stderr
+};
+
+Outcome runShell(const std::string& cmd) {
+  Outcome o;
+  FILE* pipe = popen((cmd + " 2>&1").c_str(), "r");
+  std::array<char, 512> buf{};
+  while (pipe && fgets(buf.data(), buf.size(), pipe)) o.output += buf.data();
+  const int status = pipe ? pclose(pipe) : -1;
+  o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return o;
+}
+
+Outcome bench(const std::string& args) { return runShell(std::string(HDVIO_BENCH_BINARY) + " " + args); }
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string line;
+  while (std::getline(ss, line)) out.push_back(line);
+  return out;
+}
+
+// The number after `"key": ` at or after `from` in a JSON text (this test's files only).
+double jsonNumber(const std::string& json, const std::string& key, std::size_t from = 0) {
+  const std::size_t at = json.find("\"" + key + "\": ", from);
+  if (at == std::string::npos) return NAN;
+  return std::strtod(json.c_str() + at + key.size() + 4, nullptr);
+}
+
+const std::string kSource = HDVIO_SOURCE_DIR;
+
+class BenchApp : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("hdvio_bench_app_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static fs::path dir_;
+};
+fs::path BenchApp::dir_;
+
+TEST_F(BenchApp, BadMatrixIsOneErrorLineAndExitCode2) {
+  const fs::path m = dir_ / "bad.yaml";
+  std::ofstream(m) << "experiments:\n  - {name: vio, config: " << kSource
+                   << "/config/experiments/vio.yaml}\nsequences:\n  - {name: s, dataset: /no/such/folder}\n";
+  const Outcome o = bench("--matrix " + m.string() + " --out " + (dir_ / "bad_out").string());
+  EXPECT_EQ(o.exit_code, 2) << o.output;
+  EXPECT_EQ(o.output, "error: " + m.string() +
+                          ":4: key 'sequences[0].dataset': no such file or folder: /no/such/folder\n");
+  EXPECT_FALSE(fs::exists(dir_ / "bad_out"));
+  const Outcome missing = bench("--matrix " + (dir_ / "absent.yaml").string() + " --out x");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_EQ(lines(missing.output).size(), 1u) << missing.output;
+}
+
+TEST_F(BenchApp, EmitJobsWritesOneCommandPerLine) {
+  const std::string out = (dir_ / "emit").string();
+  const Outcome o = bench("--matrix " + kSource + "/config/bench/sim_drag.yaml --out " + out +
+                          " --emit-jobs - --only random_v5");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  int sims = 0, runs = 0, aggregate = 0;
+  for (const std::string& l : lines(o.output)) {
+    if (l.empty() || l[0] == '#') continue;
+    if (l.find("hdvio_sim --config " + kSource + "/config/sim/bench_random_v5") != std::string::npos) {
+      EXPECT_NE(l.find(" --no_images "), std::string::npos) << l;
+      ++sims;
+    } else if (l.find("hdvio_run --config " + kSource + "/config/experiments/") != std::string::npos) {
+      EXPECT_NE(l.find(" --dataset " + out + "/sequences/random_v5"), std::string::npos) << l;
+      EXPECT_NE(l.find("/result --plots=false > " + out + "/runs/random_v5"), std::string::npos) << l;
+      ++runs;
+    } else if (l.find("hdvio_bench --matrix ") != std::string::npos) {
+      EXPECT_NE(l.find("--aggregate_only"), std::string::npos) << l;
+      ++aggregate;
+    } else {
+      ADD_FAILURE() << "unexpected line: " << l;
+    }
+  }
+  EXPECT_EQ(sims, 2);       // random_v5 and random_v5_wind
+  EXPECT_EQ(runs, 8);       // 4 methods on each
+  EXPECT_EQ(aggregate, 1);  // last
+  EXPECT_FALSE(fs::exists(fs::path(out) / "table.md"));
+}
+
+TEST_F(BenchApp, TinyMatrixTableMatchesHdvioEval) {
+  const fs::path out = dir_ / "tiny";
+  const Outcome o = bench("--matrix " + kSource + "/config/bench/ci_tiny.yaml --out " +
+                          out.string() + " --jobs 2");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  for (const char* f : {"table.md", "results.csv", "results.json", "evaluation/ci_tiny/metrics.json"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  const std::string table = readFile(out / "table.md");
+  EXPECT_NE(table.find("| sequence | vio | vimo |"), std::string::npos) << table;
+  EXPECT_NE(table.find("Force RMSE"), std::string::npos) << table;  // vimo estimates a force
+
+  const std::string results = readFile(out / "results.json");
+  for (const std::string method : {"vio", "vimo"}) {
+    const fs::path result = out / "runs" / "ci_tiny" / method / "result";
+    const fs::path eval_out = dir_ / ("eval_" + method);
+    const Outcome e = runShell(std::string(HDVIO_EVAL_BINARY) + " --gt " +
+                               (out / "sequences" / "ci_tiny").string() + " --est " + method + "=" +
+                               result.string() + " --out " + eval_out.string());
+    ASSERT_EQ(e.exit_code, 0) << e.output;
+    const std::string metrics = readFile(eval_out / "metrics.json");
+    const std::size_t run = results.find("\"experiment\": \"" + method + "\"");
+    ASSERT_NE(run, std::string::npos);
+    EXPECT_NE(results.find("\"status\": \"ok\"", run), std::string::npos);
+    const double ate_eval = jsonNumber(metrics, "rmse", metrics.find("ate_translation_m"));
+    const double rot_eval = jsonNumber(metrics, "rmse", metrics.find("ate_rotation_deg"));
+    EXPECT_GT(ate_eval, 0.0);
+    EXPECT_LT(ate_eval, 0.5);  // a working estimator on a 3 s flight
+    EXPECT_NEAR(jsonNumber(results, "ate_t_m", run), ate_eval, 1e-12 * ate_eval);
+    EXPECT_NEAR(jsonNumber(results, "ate_r_deg", run), rot_eval, 1e-12 * rot_eval);
+    // hdvio_run's own evaluation (result/evaluation/) agrees as well.
+    const std::string own = readFile(result / "evaluation" / "metrics.json");
+    EXPECT_NEAR(jsonNumber(own, "rmse", own.find("ate_translation_m")), ate_eval, 1e-12 * ate_eval);
+    EXPECT_GT(jsonNumber(results, "runtime_s", run), 0.0);
+    EXPECT_GT(jsonNumber(results, "realtime_factor", run), 0.0);
+    if (method == "vimo") {
+      const double f_eval = jsonNumber(metrics, "rmse", metrics.find("force_total_m_s2"));
+      EXPECT_NEAR(jsonNumber(results, "force_total_rmse_m_s2", run), f_eval, 1e-12 * f_eval);
+    }
+  }
+
+  // A second invocation skips completed runs; a broken experiment is a failed cell, not a crash.
+  const fs::path broken = dir_ / "broken.yaml";
+  std::ofstream(broken) << "method: vio\nbackend: {num_keyframez: 3}\n";
+  const fs::path m2 = dir_ / "matrix2.yaml";
+  std::ofstream(m2) << "experiments:\n  - {name: vio, config: " << kSource
+                    << "/config/experiments/vio.yaml}\n  - {name: broken, config: " << broken.string()
+                    << "}\nsequences:\n  - {name: ci_tiny, sim: " << kSource
+                    << "/config/sim/ci_tiny.yaml, images: false}\nmetrics: {plots: false}\n";
+  const Outcome again = bench("--matrix " + m2.string() + " --out " + out.string());
+  EXPECT_EQ(again.exit_code, 1) << again.output;
+  EXPECT_NE(again.output.find("1 runs to do, 1 already complete"), std::string::npos) << again.output;
+  const std::string table2 = readFile(out / "table.md");
+  EXPECT_NE(table2.find("| ci_tiny | " ), std::string::npos) << table2;
+  EXPECT_NE(table2.find("failed: error: "), std::string::npos) << table2;
+  EXPECT_NE(table2.find("num_keyframez"), std::string::npos) << table2;
+}
+
+}  // namespace

@@ -1,0 +1,140 @@
+// The benchmark matrix: strict parsing with file:line errors, the run list, seeded copies.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include "hdvio/bench/matrix.h"
+#include "hdvio/core/error.h"
+
+namespace hdvio::bench {
+namespace {
+namespace fs = std::filesystem;
+
+class BenchMatrix : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("hdvio_bench_matrix_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "exp");
+    std::ofstream(dir_ / "exp" / "weights.txt") << "w\n";
+    std::ofstream(dir_ / "exp" / "a.yaml") << "method: vio\nresidual_force: {weights: weights.txt}\n";
+    std::ofstream(dir_ / "exp" / "b.yaml") << "method: vimo\n";
+    std::ofstream(dir_ / "sim.yaml") << "name: x\n";
+    fs::create_directories(dir_ / "data");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& text) {
+    const fs::path p = dir_ / "matrix.yaml";
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  // The InputError's message, or "" if loading succeeds.
+  std::string loadError(const std::string& text) {
+    try {
+      loadMatrix(write(text));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+  fs::path dir_;
+};
+
+const char* kGood =
+    "experiments:\n"
+    "  - {name: a, config: exp/a.yaml}\n"
+    "  - {name: b, config: exp/b.yaml}\n"
+    "sequences:\n"
+    "  - {name: real, dataset: data}\n"
+    "  - {name: simulated, sim: sim.yaml, images: false}\n";
+
+TEST_F(BenchMatrix, ReadsExperimentsSequencesAndDefaults) {
+  const Matrix m = loadMatrix(write(kGood));
+  ASSERT_EQ(m.experiments.size(), 2u);
+  ASSERT_EQ(m.sequences.size(), 2u);
+  EXPECT_EQ(m.experiments[1].config, (dir_ / "exp" / "b.yaml").string());
+  EXPECT_EQ(m.sequences[0].dataset, (dir_ / "data").string());
+  EXPECT_FALSE(m.sequences[0].simulated());
+  EXPECT_TRUE(m.sequences[1].simulated());
+  EXPECT_FALSE(m.sequences[1].sim_images);
+  EXPECT_TRUE(m.seeds.empty());
+  EXPECT_EQ(m.alignment, eval::AlignmentType::kPosYaw);
+  EXPECT_TRUE(m.plots);
+}
+
+TEST_F(BenchMatrix, RejectsBadInputWithFileAndLine) {
+  const std::string file = (dir_ / "matrix.yaml").string();
+  struct Case {
+    std::string yaml;
+    std::string expected;  // part of the message
+  };
+  const std::vector<Case> cases = {
+      {std::string(kGood) + "metricz: {}\n", "metricz': unknown key"},
+      {std::string(kGood) + "metrics: {alignment: best}\n", "not one of"},
+      {std::string(kGood) + "seeds: [1, 1]\n", "distinct"},
+      {"experiments:\n  - {name: a, config: exp/missing.yaml}\nsequences:\n  - {name: r, dataset: data}\n",
+       ":2: key 'experiments[0].config': no such file"},
+      {"experiments:\n  - {name: a, config: exp/a.yaml, extra: 1}\nsequences:\n  - {name: r, dataset: data}\n",
+       "experiments[0].extra': unknown key"},
+      {"experiments:\n  - {name: a, config: exp/a.yaml}\nsequences:\n  - {name: r, dataset: data, sim: sim.yaml}\n",
+       "exactly one of 'dataset' and 'sim'"},
+      {"experiments:\n  - {name: a, config: exp/a.yaml}\nsequences:\n  - {name: r}\n",
+       "exactly one of 'dataset' and 'sim'"},
+      {"experiments:\n  - {name: a, config: exp/a.yaml}\nsequences:\n  - {name: r, dataset: data, images: false}\n",
+       "images': unknown key"},
+      {"experiments:\n  - {name: a, config: exp/a.yaml}\n  - {name: a, config: exp/b.yaml}\n"
+       "sequences:\n  - {name: r, dataset: data}\n",
+       ":3: experiment name 'a' appears twice"},
+      {"experiments:\n  - {name: a/b, config: exp/a.yaml}\nsequences:\n  - {name: r, dataset: data}\n",
+       "use letters, digits"},
+      {"experiments: []\nsequences:\n  - {name: r, dataset: data}\n", "list is empty"},
+      {"sequences:\n  - {name: r, dataset: data}\n", "'experiments': required key is missing"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = loadError(c.yaml);
+    EXPECT_EQ(e.rfind(file, 0), 0u) << "no file name in: " << e << "\n for:\n" << c.yaml;
+    EXPECT_NE(e.find(c.expected), std::string::npos) << e << "\n for:\n" << c.yaml;
+  }
+}
+
+TEST_F(BenchMatrix, ExpandsRunsInMatrixOrderAndFiltersThem) {
+  Matrix m = loadMatrix(write(std::string(kGood) + "seeds: [3, 5]\n"));
+  const std::string out = (dir_ / "out").string();
+  const std::vector<RunJob> all = expandJobs(m, out, "");
+  ASSERT_EQ(all.size(), 8u);
+  EXPECT_EQ(all[0].label, "real/a/seed3");
+  EXPECT_EQ(all[1].label, "real/a/seed5");
+  EXPECT_EQ(all[2].label, "real/b/seed3");
+  EXPECT_EQ(all[7].label, "simulated/b/seed5");
+  EXPECT_EQ(all[7].dataset, (dir_ / "out" / "sequences" / "simulated").string());
+  EXPECT_EQ(all[7].result_dir, (dir_ / "out" / "runs" / "simulated" / "b" / "seed5" / "result").string());
+  EXPECT_EQ(all[0].dataset, (dir_ / "data").string());
+  const std::vector<RunJob> only = expandJobs(m, out, "simulated/a");
+  ASSERT_EQ(only.size(), 2u);
+  EXPECT_EQ(only[0].label, "simulated/a/seed3");
+  EXPECT_TRUE(expandJobs(m, out, "nothing").empty());
+  m.seeds.clear();
+  const std::vector<RunJob> unseeded = expandJobs(m, out, "");
+  ASSERT_EQ(unseeded.size(), 4u);
+  EXPECT_EQ(unseeded[3].label, "simulated/b");
+  EXPECT_EQ(unseeded[3].config, (dir_ / "exp" / "b.yaml").string());  // the original
+}
+
+TEST_F(BenchMatrix, SeededCopyKeepsTheExperimentAndItsRelativeFiles) {
+  const Matrix m = loadMatrix(write(std::string(kGood) + "seeds: [42]\n"));
+  const RunJob job = expandJobs(m, (dir_ / "out").string(), "real/a")[0];
+  prepareJobConfig(m, job);
+  const YAML::Node copy = YAML::LoadFile(job.config);
+  EXPECT_EQ(copy["method"].as<std::string>(), "vio");
+  EXPECT_EQ(copy["run"]["seed"].as<int>(), 42);
+  EXPECT_EQ(copy["residual_force"]["weights"].as<std::string>(), (dir_ / "exp" / "weights.txt").string());
+  EXPECT_FALSE(runCompleted(job));
+}
+
+}  // namespace
+}  // namespace hdvio::bench

@@ -1,0 +1,256 @@
+// The displacement model (IMO / TLIO-style): version-2 weight files (text and float32), load
+// errors, covariance, and the world-frame window builder the filter uses.
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <unistd.h>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "deterministic_tcn.h"
+#include "hdvio/core/error.h"
+#include "hdvio/learned/displacement_examples.h"
+#include "hdvio/learned/displacement_model.h"
+#include "hdvio/learned/residual_force_model.h"
+#include "hdvio/learned/tcn_weight_file.h"
+
+namespace hdvio::learned {
+namespace {
+
+TcnFileInfo displacementInfo(const std::string& inputs = "thrust_gyro") {
+  TcnFileInfo info;
+  info.task = "displacement";
+  info.inputs = inputs;
+  info.output_sigma = {0.05, 0.06, 0.07};
+  return info;
+}
+
+void expectSameWeights(const Tcn& a, const Tcn& b) {
+  ASSERT_EQ(a.parameterCount(), b.parameterCount());
+  EXPECT_EQ(a.architecture().residual, b.architecture().residual);
+  const TcnWeights &x = a.weights(), &y = b.weights();
+  for (std::size_t i = 0; i < x.conv.size(); ++i) {
+    EXPECT_EQ(x.conv[i].weight, y.conv[i].weight) << i;
+    EXPECT_EQ(x.conv[i].bias, y.conv[i].bias) << i;
+  }
+  for (std::size_t i = 0; i < x.skip.size(); ++i) EXPECT_EQ(x.skip[i].weight, y.skip[i].weight) << i;
+  EXPECT_EQ(x.head_weight, y.head_weight);
+  EXPECT_EQ(x.input_std, y.input_std);
+}
+
+std::string tempPath(const std::string& name) {
+  return ::testing::TempDir() + "/hdvio_displacement_" + std::to_string(::getpid()) + "_" + name;
+}
+
+TEST(DisplacementWeightFile, TextAndFloat32RoundTripsAreExact) {
+  const Tcn tcn = testing::deterministicResidualTcn();
+  for (TcnEncoding enc : {TcnEncoding::kText, TcnEncoding::kFloat32}) {
+    const std::string text = formatTcnFile(tcn, displacementInfo("accel_gyro"), "a comment\nline 2", enc);
+    EXPECT_EQ(text.rfind("hdvio_tcn 2\n# a comment\n# line 2\ntask displacement\n", 0), 0u);
+    const TcnFile back = parseTcnFile(text, "x.tcn");
+    expectSameWeights(tcn, back.tcn);
+    EXPECT_EQ(back.info.task, "displacement");
+    EXPECT_EQ(back.info.inputs, "accel_gyro");
+    ASSERT_EQ(back.info.output_sigma.size(), 3u);
+    EXPECT_DOUBLE_EQ(back.info.output_sigma[2], 0.07);
+  }
+  // float32 is compact: 4 bytes per parameter plus a short header.
+  const std::size_t bytes = formatTcnFile(tcn, displacementInfo(), "", TcnEncoding::kFloat32).size();
+  EXPECT_LT(bytes, 4 * (tcn.parameterCount() + 12) + 600);
+}
+
+TEST(DisplacementWeightFile, PlainNetworksStillWriteVersion1) {
+  const std::string text = formatTcnWeights(testing::deterministicTcn());
+  EXPECT_EQ(text.rfind("hdvio_tcn 1\n", 0), 0u);
+  const TcnFile f = parseTcnFile(text, "v1.tcn");
+  EXPECT_EQ(f.info.task, "force");
+  EXPECT_TRUE(f.info.output_sigma.empty());
+  // A residual network through the old entry point gets version 2 with default info.
+  const std::string v2 = formatTcnWeights(testing::deterministicResidualTcn());
+  EXPECT_EQ(v2.rfind("hdvio_tcn 2\n", 0), 0u);
+  expectSameWeights(parseTcnWeights(v2, "v2.tcn"), testing::deterministicResidualTcn());
+}
+
+void expectFailure(const std::string& text, long line, const std::string& fragment) {
+  try {
+    parseTcnFile(text, "bad.tcn");
+    ADD_FAILURE() << "no error for: " << fragment;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "bad.tcn");
+    if (line >= 0) EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+TEST(DisplacementWeightFile, MalformedVersion2) {
+  const Tcn tcn = testing::deterministicResidualTcn();
+  const std::string text = formatTcnFile(tcn, displacementInfo(), "", TcnEncoding::kText);
+  expectFailure(replaced(text, "task displacement", "task speed"), 2, "unknown task 'speed'");
+  expectFailure(replaced(text, "inputs thrust_gyro", "inputs thrust"), 3, "unknown inputs");
+  expectFailure(replaced(text, "output_sigma 0.05", "output_sigma -0.05"), 4, "output_sigma must be positive");
+  expectFailure(replaced(text, "residual 1", "residual 2"), 10, "out of range");
+  expectFailure(replaced(text, "encoding text", "encoding zip"), -1, "unknown encoding");
+  expectFailure(replaced(text, "matrix skip4.weight", "matrix skip5.weight"), -1, "expected \"matrix skip4.weight");
+
+  const std::string bin = formatTcnFile(tcn, displacementInfo(), "", TcnEncoding::kFloat32);
+  const auto data = bin.find("data ");
+  expectFailure(bin.substr(0, data + 500), -1, "inside the float32 data");
+  const std::string count = std::to_string(tcn.parameterCount() + 12);  // + input mean and std
+  expectFailure(replaced(bin, "data " + count, "data " + std::to_string(tcn.parameterCount() + 13)), -1,
+                "float32 data");
+  std::string nan = bin;
+  const float q = std::nanf("");
+  std::memcpy(&nan[bin.find('\n', data) + 1 + 4 * 20], &q, 4);  // a weight of conv0
+  expectFailure(nan, -1, "conv0.weight holds a non-finite float");
+  expectFailure(bin + "end\n", -1, "after \"end\"");
+}
+
+TEST(DisplacementModel, LoadChecksTaskAndSigma) {
+  const std::string path = tempPath("model.tcn");
+  saveTcnFile(testing::deterministicResidualTcn(), displacementInfo("accel_gyro"), path, "", TcnEncoding::kFloat32);
+  const DisplacementModel m = DisplacementModel::load(path);
+  EXPECT_EQ(m.inputKind(), DisplacementInputKind::kAccelGyro);
+  EXPECT_EQ(m.windowSamples(), 50);
+  EXPECT_DOUBLE_EQ(m.sampleRateHz(), 100.0);
+  EXPECT_DOUBLE_EQ(m.windowSeconds(), 0.5);
+  const DisplacementPrediction p = m.predict(testing::deterministicInputs(50));
+  const TcnOutput direct = testing::deterministicResidualTcn().predictWindow(testing::deterministicInputs(50));
+  EXPECT_NEAR((p.displacement - direct.force.cast<double>()).norm(), 0.0, 1e-6);
+  EXPECT_NEAR(p.covariance(1, 1), 0.06 * 0.06, 1e-12);
+  EXPECT_EQ(p.covariance(0, 1), 0.0);
+  EXPECT_THROW(m.predict(testing::deterministicInputs(49)), std::invalid_argument);
+
+  TcnFileInfo no_sigma = displacementInfo();
+  no_sigma.output_sigma.clear();
+  saveTcnFile(testing::deterministicResidualTcn(), no_sigma, path);
+  EXPECT_THROW(DisplacementModel::load(path), InputError);
+  saveTcnWeights(testing::deterministicTcn(), path);  // a residual-force network
+  try {
+    DisplacementModel::load(path);
+    ADD_FAILURE() << "loaded a force network as a displacement model";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a displacement network"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(DisplacementModel::load(tempPath("missing.tcn")), InputError);
+  // ... and the residual-force model refuses a displacement network.
+  saveTcnFile(testing::deterministicResidualTcn(), displacementInfo(), path);
+  EXPECT_THROW(ResidualForceModel::load(path, 0.1), InputError);
+  std::remove(path.c_str());
+}
+
+// A tiny model (window 5 at 100 Hz) for the window builder; weights do not matter.
+DisplacementModel tinyModel(DisplacementInputKind kind) {
+  TcnArchitecture a;
+  a.residual = true;
+  a.window = 5;
+  a.layers = {{3, 1}};
+  TcnWeights w;
+  w.input_mean = VectorXf::Zero(6);
+  w.input_std = VectorXf::Ones(6);
+  w.conv = {{MatrixXf::Zero(3, 12), VectorXf::Zero(3)}, {MatrixXf::Zero(3, 6), VectorXf::Zero(3)}};
+  w.skip = {{MatrixXf::Zero(3, 6), VectorXf::Zero(3)}};
+  w.head_weight = MatrixXf::Identity(3, 3);
+  w.head_bias = VectorXf::Zero(3);
+  return DisplacementModel(Tcn(a, w), kind, Eigen::Vector3d::Constant(0.1));
+}
+
+// Signals linear in time, so linear interpolation is exact.
+Vec3 gyroAt(double s) { return Vec3(0.1 + s, -0.2 * s, 0.3); }
+Vec3 accelAt(double s) { return Vec3(1.0 - s, 0.5, 9.8 + 2.0 * s); }
+Vec3 thrustAt(double s) { return Vec3(0.2 * s, -0.1, 9.0 + s); }
+Eigen::Quaterniond attitude(Timestamp t) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(0.8 * toSeconds(t), Vec3(0.2, -0.3, 1.0).normalized()));
+}
+
+struct Streams {
+  std::vector<ImuSample> imu;
+  std::vector<ThrustSample> thrust;
+};
+
+// IMU at 400 Hz from 1.0 s, thrust at 100 Hz from 1.003 s (another clock phase), to 3 s.
+Streams streams() {
+  Streams s;
+  for (Timestamp t = fromSeconds(1.0); t <= fromSeconds(3.0); t += 2500000) {
+    s.imu.push_back({t, gyroAt(toSeconds(t)), accelAt(toSeconds(t))});
+  }
+  for (Timestamp t = fromSeconds(1.003); t <= fromSeconds(3.0); t += 10000000) {
+    s.thrust.push_back({t, thrustAt(toSeconds(t))});
+  }
+  return s;
+}
+
+TEST(DisplacementWindow, RotatesInterpolatesAndRemovesBiases) {
+  const Streams s = streams();
+  const Vec3 bg(0.01, -0.02, 0.03), ba(0.1, 0.2, -0.3);
+  const Timestamp t_end = fromSeconds(2.0071);
+  for (auto kind : {DisplacementInputKind::kThrustGyro, DisplacementInputKind::kAccelGyro}) {
+    const DisplacementModel m = tinyModel(kind);
+    const MatrixXf w = makeDisplacementWindow(m, s.imu, s.thrust, t_end, attitude, bg, ba);
+    ASSERT_EQ(w.rows(), 6);
+    ASSERT_EQ(w.cols(), 5);
+    for (int k = 0; k < 5; ++k) {
+      const Timestamp t = displacementSampleTime(m, t_end, k);
+      EXPECT_EQ(t, t_end - fromSeconds(0.01 * (4 - k)));
+      const double sec = toSeconds(t);
+      const Eigen::Matrix3d R = attitude(t).toRotationMatrix();
+      const Vec3 f = kind == DisplacementInputKind::kThrustGyro ? thrustAt(sec) : Vec3(accelAt(sec) - ba);
+      EXPECT_LT((w.col(k).head<3>().cast<double>() - R * f).norm(), 1e-5) << k;
+      EXPECT_LT((w.col(k).tail<3>().cast<double>() - R * (gyroAt(sec) - bg)).norm(), 1e-5) << k;
+    }
+  }
+}
+
+TEST(DisplacementWindow, RequiresCoverageOfTheWholeWindow) {
+  const Streams s = streams();
+  const DisplacementModel imo = tinyModel(DisplacementInputKind::kThrustGyro);
+  const DisplacementModel tlio = tinyModel(DisplacementInputKind::kAccelGyro);
+  const Vec3 z = Vec3::Zero();
+  // Window [t_end - 0.05 s, t_end]: IMU from 1.0 s, thrust from 1.003 s, both to 3.0 s.
+  EXPECT_NO_THROW(makeDisplacementWindow(tlio, s.imu, {}, fromSeconds(1.05), attitude, z, z));
+  EXPECT_THROW(makeDisplacementWindow(tlio, s.imu, {}, fromSeconds(1.049), attitude, z, z), InputError);
+  EXPECT_THROW(makeDisplacementWindow(imo, s.imu, s.thrust, fromSeconds(1.051), attitude, z, z), InputError);
+  EXPECT_NO_THROW(makeDisplacementWindow(imo, s.imu, s.thrust, fromSeconds(1.053), attitude, z, z));
+  EXPECT_THROW(makeDisplacementWindow(imo, s.imu, s.thrust, fromSeconds(3.001), attitude, z, z), InputError);
+  EXPECT_THROW(makeDisplacementWindow(imo, s.imu, {}, fromSeconds(2.0), attitude, z, z), InputError);
+  EXPECT_THROW(makeDisplacementWindow(imo, {}, s.thrust, fromSeconds(2.0), attitude, z, z), InputError);
+}
+
+// The training examples use the same convention as the window builder: window ending at
+// sample `end` holds samples end-W+1..end, the target spans exactly W samples.
+TEST(DisplacementExamples, WindowTargetAndIntegratedReference) {
+  FlightSamples f;
+  f.name = "synthetic";
+  f.rate_hz = 100.0;
+  const Vec3 acc(0.5, -1.0, 2.0);  // constant world acceleration, level attitude
+  for (int k = 0; k < 40; ++k) {
+    const double s = k / 100.0;
+    f.t.push_back(fromSeconds(s));
+    f.p_W.push_back(Vec3(1, 2, 3) + Vec3(0.3, 0.0, -0.1) * s + 0.5 * acc * s * s);
+    f.v_W.push_back(Vec3(0.3, 0.0, -0.1) + acc * s);
+    f.q_WB.push_back(Quat::Identity());
+    f.thrust.push_back(acc - gravityWorld());
+    f.force.push_back(acc - gravityWorld());
+    f.gyro.push_back(Vec3(0.0, 0.0, 0.01 * k));
+  }
+  const auto ex = displacementExamples({f}, 5, 3);
+  ASSERT_EQ(ex.size(), 12u);  // ends 5, 8, ..., 38
+  EXPECT_EQ(ex.front().end, 5u);
+  const Vec3 target = displacementTarget(f, 20, 5);
+  EXPECT_LT((target - (f.p_W[20] - f.p_W[15])).norm(), 1e-12);
+  // Exact for constant acceleration (the integrator is the trapezoid-free exact update).
+  EXPECT_LT((integratedDisplacement(f, 20, 5, DisplacementInputKind::kThrustGyro) - target).norm(), 1e-9);
+  const MatrixXf w = worldWindow(f, 20, 5, DisplacementInputKind::kThrustGyro);
+  EXPECT_NEAR(w(5, 4), 0.2f, 1e-6);  // gyro z of sample 20
+  EXPECT_NEAR(w(5, 0), 0.16f, 1e-6);  // sample 16
+  EXPECT_THROW(worldWindow(f, 4, 5, DisplacementInputKind::kThrustGyro), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hdvio::learned
