@@ -60,8 +60,9 @@ configs=(config/experiments/vio.yaml config/experiments/vimo.yaml config/experim
          config/experiments/hdvio_learned_demo.yaml)
 pids=()
 for i in "${!methods[@]}"; do  # all at once: each is single-threaded, the OS shares the cores
+  # --evaluate=false: the joint evaluation below compares all methods in one table
   "$bin/run/hdvio_run" --config "${configs[$i]}" --dataset "$out/sequence" --out "$out/${methods[$i]}" \
-    > "$out/${methods[$i]}.log" 2>&1 &
+    --evaluate=false > "$out/${methods[$i]}.log" 2>&1 &
   pids+=($!)
 done
 for i in "${!methods[@]}"; do

@@ -78,7 +78,9 @@ void expectFailure(const std::string& text, long line, const std::string& fragme
     ADD_FAILURE() << "no error for: " << fragment;
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "bad.tcn");
-    if (line >= 0) EXPECT_EQ(e.line(), line) << e.what();
+    if (line >= 0) {
+      EXPECT_EQ(e.line(), line) << e.what();
+    }
     EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
   }
 }
