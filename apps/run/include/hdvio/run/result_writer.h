@@ -19,7 +19,8 @@ struct FrameTiming {
   bool keyframe = false;
 };
 
-// Wall time spent in one stage of a pipeline (frontend, backend, network, filter, ...).
+// Time spent in one stage of a pipeline (frontend, backend, network, filter, ...): wall clock
+// for the visual pipelines, thread CPU time for the inertial ones (docs/running.md).
 struct StageTiming {
   std::string stage;
   double total_s = 0.0;
