@@ -13,26 +13,15 @@
 #include <string>
 #include <vector>
 
-#include <sys/wait.h>
 #include <unistd.h>
+
+#include "../common/run_command.h"
 
 namespace {
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int exit_code = -1;
-  std::string output;  // stdout + stderr
-};
-
-Outcome runShell(const std::string& cmd) {
-  Outcome o;
-  FILE* pipe = popen((cmd + " 2>&1").c_str(), "r");
-  std::array<char, 512> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) o.output += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return o;
-}
+using Outcome = hdvio::test::CommandOutcome;
+Outcome runShell(const std::string& cmd) { return hdvio::test::runCommand(cmd); }
 
 Outcome bench(const std::string& args) { return runShell(std::string(HDVIO_BENCH_BINARY) + " " + args); }
 

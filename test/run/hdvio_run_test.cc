@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include "../common/run_command.h"
 #include "hdvio/core/config.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/sim/simulator.h"
@@ -19,20 +20,9 @@ namespace hdvio {
 namespace {
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int exit_code = -1;
-  std::string output;
-};
-
+using Outcome = test::CommandOutcome;
 Outcome run(const std::string& args) {
-  const std::string cmd = std::string(HDVIO_RUN_BINARY) + " " + args + " 2>&1";
-  Outcome o;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::array<char, 512> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) o.output += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return o;
+  return test::runCommand(std::string(HDVIO_RUN_BINARY) + " " + args);
 }
 
 class HdvioRun : public ::testing::Test {

@@ -14,6 +14,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "../common/run_command.h"
 #include "hdvio/backend/vio_runner.h"
 #include "hdvio/core/config.h"
 #include "hdvio/io/asl.h"
@@ -24,20 +25,9 @@ namespace hdvio {
 namespace {
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int exit_code = -1;
-  std::string output;
-};
-
+using Outcome = test::CommandOutcome;
 Outcome runTool(const std::string& args) {
-  const std::string cmd = std::string(HDVIO_RUN_BINARY) + " " + args + " 2>&1";
-  Outcome o;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::array<char, 512> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) o.output += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return o;
+  return test::runCommand(std::string(HDVIO_RUN_BINARY) + " " + args);
 }
 
 // RMS and maximum position error of the estimates against the (interpolated) ground truth,
