@@ -13,6 +13,7 @@
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/torch/displacement_trainer.h"
 #include "hdvio/train/flight_loading.h"
+#include "hdvio/train/training_config.h"
 
 DEFINE_string(config, "", "training YAML (config/learned/imo_*.yaml, tlio_*.yaml)");
 DEFINE_string(out, "", "output weight file (.tcn)");
@@ -27,22 +28,9 @@ learned::TcnArchitecture readModel(const ConfigReader& m, std::string* inputs) {
   learned::TcnArchitecture a;
   a.residual = true;
   m.readChoice("inputs", inputs, {"thrust_gyro", "accel_gyro"}, true);
-  m.readInRange("window", &a.window, 1, 10000, true);
-  m.readInRange("sample_rate_hz", &a.sample_rate_hz, 1.0, 10000.0, true);
-  m.readInRange("kernel_size", &a.kernel_size, 1, 16);
-  std::vector<int> widths, dilations;
-  m.read("widths", &widths);
-  m.read("dilations", &dilations);
+  train::readTcnShape(m, &a);
   m.finish();
-  if (widths.size() != dilations.size()) {
-    throw InputError(m.file(), 0, "model.widths and model.dilations must have the same length");
-  }
-  for (std::size_t l = 0; l < widths.size(); ++l) a.layers.push_back({widths[l], dilations[l]});
-  try {
-    a.validate();
-  } catch (const std::invalid_argument& e) {
-    throw InputError(m.file(), 0, std::string("model: ") + e.what());
-  }
+  train::validateTcnShape(m, a);
   return a;
 }
 
@@ -98,15 +86,13 @@ int run() {
   source.mass = mass;
   source.rate_hz = arch.sample_rate_hz;
   // Every validation_every-th block of each flight is held out for early stopping and the
-  // output sigma (interleaved, so both sets see every phase of the flight).
+  // output sigma.
   std::vector<learned::FlightSamples> train_flights, validation_flights;
-  const auto block = static_cast<std::size_t>(block_seconds * arch.sample_rate_hz);
-  const auto every = static_cast<std::size_t>(validation_every);
   for (const auto& p : train_paths) {
     const learned::FlightSamples f = train::loadFlight(p, source);
-    for (std::size_t b = 0; b * block < f.size(); ++b) {
-      (b % every == every / 2 ? validation_flights : train_flights).push_back(f.slice(b * block, (b + 1) * block));
-    }
+    train::splitIntoBlocks(f, static_cast<std::size_t>(block_seconds * arch.sample_rate_hz),
+                           static_cast<std::size_t>(validation_every), &train_flights,
+                           &validation_flights);
     std::cout << p << ": " << f.size() << " samples (" << f.size() / arch.sample_rate_hz << " s)\n";
   }
 

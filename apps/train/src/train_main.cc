@@ -10,6 +10,7 @@
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/torch/trainer.h"
 #include "hdvio/train/flight_loading.h"
+#include "hdvio/train/training_config.h"
 
 DEFINE_string(config, "", "training YAML (config/learned/train_*.yaml)");
 DEFINE_string(out, "", "output weight file (.tcn)");
@@ -22,23 +23,10 @@ using namespace hdvio;
 
 learned::TcnArchitecture readModel(const ConfigReader& m) {
   learned::TcnArchitecture a;
-  m.readInRange("window", &a.window, 1, 10000, true);
-  m.readInRange("sample_rate_hz", &a.sample_rate_hz, 1.0, 10000.0, true);
-  m.readInRange("kernel_size", &a.kernel_size, 1, 16);
-  std::vector<int> widths, dilations;
-  m.read("widths", &widths);
-  m.read("dilations", &dilations);
+  train::readTcnShape(m, &a);
   m.readOptional("variance_head", &a.variance_head);
   m.finish();
-  if (widths.size() != dilations.size()) {
-    throw InputError(m.file(), 0, "model.widths and model.dilations must have the same length");
-  }
-  for (std::size_t l = 0; l < widths.size(); ++l) a.layers.push_back({widths[l], dilations[l]});
-  try {
-    a.validate();
-  } catch (const std::invalid_argument& e) {
-    throw InputError(m.file(), 0, std::string("model: ") + e.what());
-  }
+  train::validateTcnShape(m, a);
   return a;
 }
 
@@ -103,12 +91,10 @@ int main(int argc, char** argv) {
       // Only [0, use_until) of each flight is used; the rest stays unseen for testing.
       const learned::FlightSamples f = train::fractionOf(train::loadFlight(p, source), 0.0, use_until);
       // Without separate validation flights, every validation_every-th block of each training
-      // flight validates (interleaved, so both sets see every phase of the flight).
-      const auto block = static_cast<std::size_t>(block_seconds * arch.sample_rate_hz);
-      for (std::size_t b = 0; b * block < f.size(); ++b) {
-        const bool validate = validation_paths.empty() && b % static_cast<std::size_t>(validation_every) == static_cast<std::size_t>(validation_every / 2);
-        (validate ? validation_flights : train_flights).push_back(f.slice(b * block, (b + 1) * block));
-      }
+      // flight validates.
+      train::splitIntoBlocks(f, static_cast<std::size_t>(block_seconds * arch.sample_rate_hz),
+                             validation_paths.empty() ? static_cast<std::size_t>(validation_every) : 0,
+                             &train_flights, &validation_flights);
       std::cout << p << ": " << f.size() << " samples (" << f.size() / arch.sample_rate_hz << " s)\n";
     }
     for (const auto& p : validation_paths) validation_flights.push_back(train::loadFlight(p, source));
