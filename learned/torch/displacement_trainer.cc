@@ -10,6 +10,7 @@
 
 #include "hdvio/learned/displacement_examples.h"
 #include "hdvio/learned/tcn_weight_file.h"
+#include "hdvio/learned/torch/epoch_loop.h"
 
 namespace hdvio::learned {
 namespace {
@@ -107,7 +108,6 @@ double DisplacementTrainer::pass(const DisplacementSet& set, torch::optim::Adam*
 DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSamples>& train_flights,
                                                       const std::vector<FlightSamples>& validation_flights,
                                                       std::ostream& log) {
-  using Clock = std::chrono::steady_clock;
   torch::set_num_threads(options_.threads);
   torch::manual_seed(static_cast<uint64_t>(options_.seed));
   for (const auto& f : train_flights) {
@@ -130,38 +130,24 @@ DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSa
 
   torch::optim::Adam optimizer(module_->parameters(), torch::optim::AdamOptions(options_.learning_rate));
   DisplacementTrainingResult result{{}, 0, exportTcn(module_), {}};
-  double best = std::numeric_limits<double>::infinity();
-  const auto t_start = Clock::now();
-  for (int epoch = 0; epoch <= options_.max_epochs; ++epoch) {
-    const auto t0 = Clock::now();
+  const auto run_epoch = [&](int epoch, std::ostream& out) {
+    const auto t0 = std::chrono::steady_clock::now();
     DisplacementEpoch s;
     s.epoch = epoch;
     s.train_loss = pass(train_set, epoch > 0 ? &optimizer : nullptr);
     s.validation_loss = pass(val_set, nullptr);
-    s.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(s);
-    log << "epoch " << std::setw(3) << epoch << "  train " << std::setprecision(5) << s.train_loss
+    out << "epoch " << std::setw(3) << epoch << "  train " << std::setprecision(5) << s.train_loss
         << "  val " << s.validation_loss << " m^2  " << std::setprecision(3) << s.seconds << " s (process CPU "
         << static_cast<double>(std::clock()) / CLOCKS_PER_SEC / 60.0 << " min)";
-    if (s.validation_loss < best) {
-      best = s.validation_loss;
-      result.best_epoch = epoch;
-      result.best = exportTcn(module_);
-      if (!options_.checkpoint_dir.empty()) {
-        saveTcnWeights(result.best, options_.checkpoint_dir + "/best.tcn", "best epoch " + std::to_string(epoch));
-      }
-      log << "  *";
-    }
-    log << std::endl;
-    if (epoch - result.best_epoch >= options_.patience) {
-      log << "early stop: no validation improvement for " << options_.patience << " epochs\n";
-      break;
-    }
-    if (std::chrono::duration<double>(Clock::now() - t_start).count() > 60.0 * options_.max_minutes) {
-      log << "stop: time budget of " << options_.max_minutes << " min used\n";
-      break;
-    }
-  }
+    return s.validation_loss;
+  };
+  const EpochLoopResult loop = runEpochLoop(
+      {options_.max_epochs, options_.patience, options_.max_minutes, options_.checkpoint_dir, false},
+      module_, run_epoch, log);
+  result.best_epoch = loop.best_epoch;
+  result.best = loop.best;
   // Per-axis validation RMSE of the best weights (Eigen inference, as deployed).
   const std::vector<DisplacementExample> ex =
       displacementExamples(validation_flights, arch_.window, options_.stride_samples);

@@ -8,6 +8,7 @@
 
 #include "hdvio/core/sequence.h"
 #include "hdvio/learned/tcn_weight_file.h"
+#include "hdvio/learned/torch/epoch_loop.h"
 
 namespace hdvio::learned {
 namespace {
@@ -147,7 +148,6 @@ std::vector<double> Trainer::pass(const SegmentSet& set, torch::optim::Adam* opt
 TrainingResult Trainer::train(const std::vector<FlightSamples>& train_flights,
                               const std::vector<FlightSamples>& validation_flights,
                               std::ostream& log) {
-  using Clock = std::chrono::steady_clock;
   torch::set_num_threads(options_.threads);
   torch::manual_seed(options_.seed);
   if (std::abs(train_flights.front().rate_hz - arch_.sample_rate_hz) > 1e-6) {
@@ -164,45 +164,27 @@ TrainingResult Trainer::train(const std::vector<FlightSamples>& train_flights,
 
   torch::optim::Adam optimizer(module_->parameters(), torch::optim::AdamOptions(options_.learning_rate));
   TrainingResult result{{}, 0, exportTcn(module_)};
-  double best = std::numeric_limits<double>::infinity();
-  const auto t_start = Clock::now();
-  for (int epoch = 0; epoch <= options_.max_epochs; ++epoch) {
-    const auto t0 = Clock::now();
+  const auto run_epoch = [&](int epoch, std::ostream& out) {
+    const auto t0 = std::chrono::steady_clock::now();
     EpochStats s;
     s.epoch = epoch;
-    if (epoch > 0) s.train_loss = pass(train_set, &optimizer)[0];
-    else s.train_loss = pass(train_set, nullptr)[0];
+    s.train_loss = pass(train_set, epoch > 0 ? &optimizer : nullptr)[0];
     const std::vector<double> v = pass(val_set, nullptr);
     s.validation_loss = v[0];
     s.validation_alpha_rms = v[1];
     s.validation_beta_rms = v[2];
-    s.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(s);
-    log << "epoch " << std::setw(3) << epoch << "  train " << std::setprecision(5) << s.train_loss
+    out << "epoch " << std::setw(3) << epoch << "  train " << std::setprecision(5) << s.train_loss
         << "  val " << s.validation_loss << "  val_rms(alpha, beta) " << s.validation_alpha_rms
         << ", " << s.validation_beta_rms << " m/s^2  " << std::setprecision(3) << s.seconds << " s";
-    if (s.validation_loss < best) {
-      best = s.validation_loss;
-      result.best_epoch = epoch;
-      result.best = exportTcn(module_);
-      if (!options_.checkpoint_dir.empty()) {
-        saveTcnWeights(result.best, options_.checkpoint_dir + "/best.tcn", "best epoch " + std::to_string(epoch));
-      }
-      log << "  *";
-    }
-    log << std::endl;
-    if (!options_.checkpoint_dir.empty()) {
-      torch::save(module_, options_.checkpoint_dir + "/checkpoint.pt");
-    }
-    if (epoch - result.best_epoch >= options_.patience) {
-      log << "early stop: no validation improvement for " << options_.patience << " epochs\n";
-      break;
-    }
-    if (std::chrono::duration<double>(Clock::now() - t_start).count() > 60.0 * options_.max_minutes) {
-      log << "stop: time budget of " << options_.max_minutes << " min used\n";
-      break;
-    }
-  }
+    return s.validation_loss;
+  };
+  const EpochLoopResult loop = runEpochLoop(
+      {options_.max_epochs, options_.patience, options_.max_minutes, options_.checkpoint_dir, true},
+      module_, run_epoch, log);
+  result.best_epoch = loop.best_epoch;
+  result.best = loop.best;
   return result;
 }
 

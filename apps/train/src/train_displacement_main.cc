@@ -36,17 +36,10 @@ learned::TcnArchitecture readModel(const ConfigReader& m, std::string* inputs) {
 
 learned::DisplacementTrainOptions readTraining(const ConfigReader& t) {
   learned::DisplacementTrainOptions o;
-  t.readInRange("stride_samples", &o.stride_samples, 1, 100000);
-  t.readInRange("batch_size", &o.batch_size, 1, 100000);
-  t.readInRange("learning_rate", &o.learning_rate, 1e-8, 1.0);
-  t.readInRange("max_epochs", &o.max_epochs, 0, 100000);
-  t.readInRange("patience", &o.patience, 1, 100000);
+  train::readOptimizationKeys(t, &o);
   t.readInRange("orientation_sigma_deg", &o.orientation_sigma_deg, 0.0, 45.0);
   t.readInRange("gyro_bias_range", &o.gyro_bias_range, 0.0, 1.0);
   t.readInRange("accel_bias_range", &o.accel_bias_range, 0.0, 10.0);
-  t.readInRange("seed", &o.seed, 0, 1 << 30);
-  t.readInRange("threads", &o.threads, 1, 64);
-  t.readInRange("max_minutes", &o.max_minutes, 0.0, 10000.0);
   t.finish();
   return o;
 }

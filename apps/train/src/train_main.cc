@@ -32,16 +32,9 @@ learned::TcnArchitecture readModel(const ConfigReader& m) {
 
 learned::TrainOptions readTraining(const ConfigReader& t) {
   learned::TrainOptions o;
+  train::readOptimizationKeys(t, &o);
   t.readInRange("segment_seconds", &o.segment_seconds, 0.01, 10.0);
-  t.readInRange("stride_samples", &o.stride_samples, 1, 100000);
-  t.readInRange("batch_size", &o.batch_size, 1, 100000);
-  t.readInRange("learning_rate", &o.learning_rate, 1e-8, 1.0);
-  t.readInRange("max_epochs", &o.max_epochs, 0, 100000);
-  t.readInRange("patience", &o.patience, 1, 100000);
   t.readInRange("gyro_bias_sigma", &o.gyro_bias_sigma, 0.0, 1.0);
-  t.readInRange("seed", &o.seed, 0, 1 << 30);
-  t.readInRange("threads", &o.threads, 1, 64);
-  t.readInRange("max_minutes", &o.max_minutes, 0.0, 10000.0);
   t.readInRange("variance_weight", &o.variance_weight, 0.0, 100.0);
   t.finish();
   return o;
