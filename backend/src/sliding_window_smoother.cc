@@ -1,11 +1,8 @@
 #include "hdvio/backend/sliding_window_smoother.h"
 
-#include <cmath>
-#include <cstdio>
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
-
-#include <ceres/ordered_groups.h>
 
 namespace hdvio {
 
@@ -45,41 +42,18 @@ SlidingWindowSmoother::UpdateResult SlidingWindowSmoother::update(
 SlidingWindowSmoother::UpdateResult SlidingWindowSmoother::optimize() {
   UpdateResult result;
   if (factors_.empty()) return result;
-  Values trial = values_;
-  const OptimizerOptions& o = options_.optimizer;
-  ceres::Problem problem(problemOptions());
-  addToProblem(factors(), &trial, o.constant_keys, &problem);
-  ceres::Solver::Options solver;
-  solver.max_num_iterations = o.max_iterations;
-  solver.max_solver_time_in_seconds = o.max_time_s;
-  solver.num_threads = o.threads;
-  solver.linear_solver_type = o.linear_solver;
-  solver.function_tolerance = options_.function_tolerance;
-  solver.minimizer_progress_to_stdout = o.verbose;
-  solver.logging_type = o.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
-  const bool schur = o.linear_solver == ceres::DENSE_SCHUR || o.linear_solver == ceres::SPARSE_SCHUR ||
-                     o.linear_solver == ceres::ITERATIVE_SCHUR;
-  if (schur && !options_.eliminate_first.empty()) {
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    int first = 0;
-    for (Key k : trial.keys()) {
-      double* block = trial.data(k);
-      if (!problem.HasParameterBlock(block)) continue;
-      const bool eliminate = options_.eliminate_first.count(k.letter()) > 0 &&
-                             !problem.IsParameterBlockConstant(block);
-      ordering->AddElementToGroup(block, eliminate ? 0 : 1);
-      first += eliminate ? 1 : 0;
-    }
-    // With nothing to eliminate first, a one-group ordering lets Ceres choose as before.
-    if (first > 0) solver.linear_solver_ordering = ordering;
-  }
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
-  if (o.verbose) std::printf("%s\n", summary.FullReport().c_str());
-  result.usable = summary.termination_type != ceres::FAILURE && std::isfinite(summary.final_cost);
-  result.iterations = static_cast<int>(summary.iterations.size());
-  result.final_cost = summary.final_cost;
-  result.solve_time_s = summary.total_time_in_seconds;
+  Values trial = values_;  // kept only if the solve is usable
+  OptimizerOptions optimizer = options_.optimizer;
+  const bool warm_start = options_.warm_start_min_radius > 0.0 && options_.warm_start_max_radius > 0.0;
+  if (warm_start && trust_region_radius_ > 0.0) optimizer.initial_trust_region_radius = trust_region_radius_;
+  const OptimizeResult solved = hdvio::optimize(factors(), &trial, optimizer);
+  if (warm_start && !solved.summary.iterations.empty())
+    trust_region_radius_ = std::clamp(solved.summary.iterations.back().trust_region_radius,
+                                      options_.warm_start_min_radius, options_.warm_start_max_radius);
+  result.usable = solved.usable;
+  result.iterations = static_cast<int>(solved.summary.iterations.size());
+  result.final_cost = solved.summary.final_cost;
+  result.solve_time_s = solved.summary.total_time_in_seconds;
   if (result.usable) values_ = std::move(trial);
   return result;
 }

@@ -32,8 +32,13 @@ SmootherOptions smootherOptions(const VioBackendOptions& o) {
   s.optimizer.linear_solver = o.linear_solver == "dense_schur"    ? ceres::DENSE_SCHUR
                               : o.linear_solver == "sparse_schur" ? ceres::SPARSE_SCHUR
                                                                   : ceres::SPARSE_NORMAL_CHOLESKY;
-  if (o.landmarks_first) s.eliminate_first = {L(0).letter()};
-  s.function_tolerance = o.function_tolerance;
+  if (o.landmarks_first) s.optimizer.eliminate_first = {L(0).letter()};
+  s.optimizer.function_tolerance = o.function_tolerance;
+  s.optimizer.initial_trust_region_radius = o.initial_trust_region_radius;
+  if (o.trust_region_warm_start) {
+    s.warm_start_min_radius = o.initial_trust_region_radius;
+    s.warm_start_max_radius = o.max_trust_region_radius;
+  }
   return s;
 }
 }  // namespace

@@ -73,6 +73,13 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
                {"all", "keyframes", "untracked"});
   c.readInRange("max_iterations", &o.max_iterations, 1, 1000);
   c.readInRange("function_tolerance", &o.function_tolerance, 1e-12, 1e-1);
+  c.readInRange("initial_trust_region_radius", &o.initial_trust_region_radius, 1e-3, 1e16);
+  c.readInRange("max_trust_region_radius", &o.max_trust_region_radius, 1e-3, 1e16);
+  c.readOptional("trust_region_warm_start", &o.trust_region_warm_start);
+  if (o.max_trust_region_radius < o.initial_trust_region_radius)
+    throw InputError(c.file(), 0,
+                     "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +
+                         "max_trust_region_radius': must be >= initial_trust_region_radius");
   c.readChoice("linear_solver", &o.linear_solver,
                {"dense_schur", "sparse_schur", "sparse_normal_cholesky"});
   c.readOptional("landmarks_first", &o.landmarks_first);

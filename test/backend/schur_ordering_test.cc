@@ -1,4 +1,4 @@
-// Eliminating exactly the landmarks first (SmootherOptions::eliminate_first) changes only how
+// Eliminating exactly the landmarks first (OptimizerOptions::eliminate_first) changes only how
 // Ceres solves the normal equations, not the solution: a small bundle adjustment converges to
 // the same estimate with and without the explicit ordering.
 #include <gtest/gtest.h>
@@ -18,8 +18,8 @@ Values solve(const FactorGraph& graph, const Values& initial, bool landmarks_fir
   SmootherOptions options;
   options.optimizer.linear_solver = ceres::DENSE_SCHUR;
   options.optimizer.max_iterations = 50;
-  options.function_tolerance = 1e-12;
-  if (landmarks_first) options.eliminate_first = {L(0).letter()};
+  options.optimizer.function_tolerance = 1e-12;
+  if (landmarks_first) options.optimizer.eliminate_first = {L(0).letter()};
   SlidingWindowSmoother smoother(options);
   const auto result = smoother.update(graph, initial);
   EXPECT_TRUE(result.usable);

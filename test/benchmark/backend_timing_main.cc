@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@ DEFINE_bool(gt_init, false, "Start from the ground-truth state instead of the st
 DEFINE_string(linear_solver, "", "Override backend.linear_solver");
 DEFINE_int32(max_iterations, 0, "Override backend.max_iterations (> 0)");
 DEFINE_string(landmarks_first, "", "Override backend.landmarks_first (true | false)");
+DEFINE_string(frames_csv, "", "Also write one row per frame (timings, window, solver) to this CSV");
 
 namespace hdvio {
 namespace {
@@ -86,6 +88,21 @@ int run() {
   const Sequence seq = io::readAsl(FLAGS_dataset, read);
   const VioRunOutput out = runVioOnTracks(seq, options, run);
 
+  if (!FLAGS_frames_csv.empty()) {
+    const std::string tmp = FLAGS_frames_csv + ".tmp";  // written whole, then renamed
+    {
+      std::ofstream csv(tmp);
+      csv << "t_ns,keyframe,cpu_ms,marginalization_ms,solve_ms,iterations,landmarks,outliers\n";
+      for (const FrameResult& f : out.frames)
+        csv << f.state.t << ',' << f.keyframe << ',' << 1e3 * f.cpu_time_s << ','
+            << 1e3 * f.marginalization_cpu_s << ',' << 1e3 * f.solve_time_s << ','
+            << f.solver_iterations << ',' << f.landmarks_in_window << ',' << f.outliers_removed
+            << '\n';
+      if (!csv.flush()) throw InputError(FLAGS_frames_csv, 0, "cannot write");
+    }
+    if (std::rename(tmp.c_str(), FLAGS_frames_csv.c_str()) != 0)
+      throw InputError(FLAGS_frames_csv, 0, "cannot write");
+  }
   std::vector<double> all, key, nonkey, marg, solver, landmarks, iterations;
   for (const FrameResult& f : out.frames) {
     if (f.cpu_time_s <= 0.0) continue;  // the initialization frame

@@ -17,12 +17,12 @@ struct SmootherOptions {
   OptimizerOptions optimizer;
   MarginalizationOptions marginalization;
   double lag_s = 0.0;  // > 0: after each update, marginalize keys older than newest - lag
-  // Schur solvers: variables whose key letter is listed are eliminated first (e.g. {'l'}, the
-  // landmarks). Without it Ceres picks its own independent set, which mixes in velocities and
-  // biases and so forces its slow dynamic-size Schur eliminator.
-  std::set<char> eliminate_first;
-  // Ceres stops when an iteration lowers the cost by less than this fraction.
-  double function_tolerance = 1e-6;
+  // Levenberg-Marquardt damping carried from one solve to the next: each solve starts with the
+  // trust-region radius the previous one ended with (clamped to [min, max]), so a well-posed
+  // window runs nearly Gauss-Newton and a poorly constrained one (hover, little parallax) keeps
+  // the damping it needed. <= 0: every solve starts at optimizer.initial_trust_region_radius.
+  double warm_start_min_radius = 0.0;
+  double warm_start_max_radius = 0.0;
 };
 
 class SlidingWindowSmoother {
@@ -69,6 +69,7 @@ class SlidingWindowSmoother {
   std::map<FactorId, FactorPtr> factors_;
   std::map<Key, Timestamp> key_times_;
   FactorId next_id_ = 0;
+  double trust_region_radius_ = 0.0;  // where the last solve ended (warm start), 0 = none yet
 };
 
 }  // namespace hdvio

@@ -40,6 +40,14 @@ struct VioBackendOptions {
 
   int max_iterations = 8;
   double function_tolerance = 1e-5;  // relative cost decrease that ends the solve early
+  // Levenberg-Marquardt's damping is 1/radius. The first solve starts at
+  // initial_trust_region_radius; with trust_region_warm_start each later solve starts where the
+  // previous one ended (within [initial, max]): a well-posed window grows it and then runs nearly
+  // Gauss-Newton (1-2 steps where Ceres' default 1e4 took ~4.4), while a poorly constrained one
+  // (hover with little parallax) keeps its damping (docs/backend.md).
+  double initial_trust_region_radius = 1e4;
+  double max_trust_region_radius = 1e8;
+  bool trust_region_warm_start = true;
   // Landmarks are eliminated first (Schur complement) unless sparse_normal_cholesky is chosen.
   std::string linear_solver = "dense_schur";  // dense_schur | sparse_schur | sparse_normal_cholesky
   // Schur solvers eliminate exactly the landmarks (fixed 2x3x6 blocks, Ceres' specialized

@@ -17,6 +17,16 @@ struct OptimizerOptions {
   bool verbose = false;
   ceres::LinearSolverType linear_solver = ceres::SPARSE_NORMAL_CHOLESKY;
   std::set<Key> constant_keys;  // held fixed (gauge, or variables outside the window)
+  // Ceres stops when an iteration lowers the cost by less than this fraction.
+  double function_tolerance = 1e-6;
+  // Levenberg-Marquardt starts with damping 1/radius (relative to the Jacobi-scaled diagonal).
+  // Ceres' 1e4 suits a poor start; from a good one a large radius (nearly Gauss-Newton) takes
+  // far fewer iterations, and LM still rejects bad steps and shrinks the radius.
+  double initial_trust_region_radius = 1e4;
+  // Schur solvers: variables whose key letter is listed are eliminated first (e.g. {'l'}, the
+  // landmarks). Without it Ceres picks its own independent set, which may mix in velocities
+  // and biases and so force its slow dynamic-size Schur eliminator.
+  std::set<char> eliminate_first;
 };
 
 struct OptimizeResult {
@@ -30,7 +40,7 @@ void addToProblem(const FactorGraph& graph, Values* values, const std::set<Key>&
                   ceres::Problem* problem);
 ceres::Problem::Options problemOptions();
 
-// Optimizes values in place.
+// Optimizes values in place (verbose: prints Ceres' full report too).
 OptimizeResult optimize(const FactorGraph& graph, Values* values, const OptimizerOptions& options);
 
 }  // namespace hdvio
