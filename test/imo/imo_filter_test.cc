@@ -115,11 +115,13 @@ TEST(ImoUpdate, MeasurementJacobianMatchesFiniteDifferences) {
   ImoFilter filter = filterWithClones(6);
   ASSERT_EQ(filter.clones().size(), 6u);
   const int n = static_cast<int>(filter.covariance().rows());
-  for (const double c : {0.0, 0.5}) {
+  Mat3 full;  // a drag model's velocity coefficient is a full matrix
+  full << 0.48, 0.01, -0.02, 0.015, 0.47, 0.005, -0.01, 0.02, 0.49;
+  for (const Mat3& c : {Mat3::Zero().eval(), (0.5 * Mat3::Identity()).eval(), full}) {
     RelativePositionMeasurement m;
     m.clone_i = 1;
     m.clone_j = 5;
-    m.velocity_coefficient = c;
+    m.velocity_matrix = c;
     const Eigen::MatrixXd H = filter.measurementJacobian(m);
     const double eps = 1e-6;
     for (int i = 0; i < n; ++i) {
@@ -129,7 +131,7 @@ TEST(ImoUpdate, MeasurementJacobianMatchesFiniteDifferences) {
       plus.inject(d);
       minus.inject(-d);
       const Vec3 col = (plus.predictMeasurement(m) - minus.predictMeasurement(m)) / (2 * eps);
-      EXPECT_LT((col - H.col(i)).norm(), 1e-7) << "c " << c << " column " << i;
+      EXPECT_LT((col - H.col(i)).norm(), 1e-7) << "c " << c(0, 0) << " column " << i;
     }
   }
 }

@@ -1,5 +1,5 @@
 // The IMO run loop on an analytic flight: clone/update schedule, the filter with exact
-// displacements correcting a noisy biased IMU, the thrust-model displacement, network-only.
+// displacements correcting a noisy biased IMU, network-only (the model source: drag_model_test).
 #include <gtest/gtest.h>
 
 #include <random>
@@ -30,7 +30,7 @@ DisplacementSource groundTruthSource(double sigma, std::vector<DisplacementReque
     std::normal_distribution<double> n(0.0, sigma);
     const Vec3 d = trajectoryAt(toSeconds(r.t_end)).p - trajectoryAt(toSeconds(r.t_begin)).p;
     return DisplacementEstimate{d + Vec3(n(*rng), n(*rng), n(*rng)),
-                                Mat3::Identity() * sigma * sigma, 0.0};
+                                Mat3::Identity() * sigma * sigma};
   };
 }
 
@@ -98,31 +98,6 @@ TEST(ImoRunner, ExactDisplacementsCorrectNoisyBiasedImu) {
   const NavState& last = filtered.states.back();
   EXPECT_LT((last.bias.tail<3>() - ba).norm(), 0.08) << last.bias.transpose();
   EXPECT_LT((last.bias.head<3>() - bg).norm(), 2.5e-3) << last.bias.transpose();
-}
-
-TEST(ImoRunner, ThrustModelDisplacementMatchesDragFreeFlight) {
-  // Without drag the thrust is the specific force: the model displacement must be exact.
-  const auto imu = simulateImu(400.0, 2.0);
-  std::vector<ThrustSample> thrust;
-  for (const auto& s : imu) thrust.push_back({s.t, s.accel});
-  const DisplacementSource model =
-      makeThrustModelSource(thrust, 0.0025, Vec3::Constant(0.1), gravityWorld());
-  for (const double t_end : {0.5, 1.2, 2.0}) {
-    DisplacementRequest r;
-    r.t_end = fromSeconds(t_end);
-    r.t_begin = fromSeconds(t_end - 0.5);
-    r.world_from_body = [](Timestamp t) { return Quat(trajectoryAt(toSeconds(t)).R); };
-    const auto a = trajectoryAt(t_end - 0.5), b = trajectoryAt(t_end);
-    r.velocity_begin = a.v;
-    const auto est = model(r);
-    ASSERT_TRUE(est.has_value());
-    EXPECT_DOUBLE_EQ(est->velocity_coefficient, 0.0);
-    EXPECT_LT((est->z - (b.p - a.p)).norm(), 2e-4) << t_end;
-  }
-  DisplacementRequest outside;
-  outside.t_begin = fromSeconds(1.8);
-  outside.t_end = fromSeconds(2.3);
-  EXPECT_FALSE(model(outside).has_value());
 }
 
 TEST(ImoRunner, NetworkOnlyConcatenatesDisplacements) {

@@ -17,42 +17,8 @@ Mat3 orthonormalized(const Mat3& R) { return Quat(R).normalized().toRotationMatr
 
 PropagationStep propagateNominal(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel,
                                  double dt, const Vec3& gravity) {
-  const Vec3 w = gyro - x.bg;
-  const Vec3 a = accel - x.ba;
-  const Vec3 phi = w * dt;
-  const Mat3 dR = so3Exp(phi);
-  // The specific force is rotated with the mid-step attitude R Exp(phi / 2): second-order
-  // accurate, where the release's R_k is first order (the tests measure both rates).
-  const Mat3 M = so3Exp(0.5 * phi);
-  const Mat3 Rm = x.R * M;
-  const Vec3 acc_w = Rm * a;
-
-  PropagationStep s;
-  s.state = x;
-  s.state.R = orthonormalized(x.R * dR);
-  s.state.v = x.v + (acc_w + gravity) * dt;
-  s.state.p = x.p + x.v * dt + 0.5 * (acc_w + gravity) * dt * dt;
-
-  // Error dynamics for R = R_hat Exp(dtheta) (right perturbation), the rest additive.
-  const Mat3 dacc_dtheta = -Rm * hat(a) * M.transpose();                     // d(acc_w)/d(dtheta)
-  const Mat3 dacc_dbg = Rm * hat(a) * rightJacobian(0.5 * phi) * (0.5 * dt);  // d(acc_w)/d(dbg)
-  s.A.setIdentity();
-  s.A.block<3, 3>(kTheta, kTheta) = dR.transpose();
-  s.A.block<3, 3>(kTheta, kBg) = -rightJacobian(phi) * dt;
-  s.A.block<3, 3>(kVel, kTheta) = dacc_dtheta * dt;
-  s.A.block<3, 3>(kVel, kBg) = dacc_dbg * dt;
-  s.A.block<3, 3>(kVel, kBa) = -Rm * dt;
-  s.A.block<3, 3>(kPos, kTheta) = 0.5 * dacc_dtheta * dt * dt;
-  s.A.block<3, 3>(kPos, kVel) = Mat3::Identity() * dt;
-  s.A.block<3, 3>(kPos, kBg) = 0.5 * dacc_dbg * dt * dt;
-  s.A.block<3, 3>(kPos, kBa) = -0.5 * Rm * dt * dt;
-
-  // Measurement noise enters exactly like a bias error (measured = true + bias + noise).
-  s.B.leftCols<3>() = s.A.middleCols<3>(kBg);
-  s.B.rightCols<3>() = s.A.middleCols<3>(kBa);
-  s.B.block<3, 3>(kBg, 0).setZero();
-  s.B.block<3, 3>(kBa, 3).setZero();
-  return s;
+  const NominalStep s = propagateStep(x, gyro, accel, dt, gravity);
+  return {s.state, s.transition.dense(), s.transition.noiseInput()};
 }
 
 ImoFilter::ImoFilter(const ImoFilterOptions& options) : options_(options) {}
@@ -75,21 +41,19 @@ void ImoFilter::propagate(const Vec3& gyro, const Vec3& accel, Timestamp t_next)
   const double dt = secondsBetween(x_.t, t_next);
   if (dt < 0.0) throw std::logic_error("ImoFilter::propagate: time goes backwards");
   if (dt == 0.0) return;
-  const PropagationStep s = propagateNominal(x_, gyro, accel, dt, options_.gravity);
+  const NominalStep s = propagateStep(x_, gyro, accel, dt, options_.gravity);
   x_ = s.state;
   x_.t = t_next;
 
   // Discrete noise from densities: a white sample held over dt has variance sigma^2 / dt.
-  Eigen::Matrix<double, 6, 1> w;
-  w.head<3>().setConstant(options_.gyro_noise_density * options_.gyro_noise_density / dt);
-  w.tail<3>().setConstant(options_.accel_noise_density * options_.accel_noise_density / dt);
+  const auto& o = options_;
   Mat15 Pee = P_.topLeftCorner<kStateDim, kStateDim>();
-  Pee = s.A * Pee * s.A.transpose() + s.B * w.asDiagonal() * s.B.transpose();
-  Pee.diagonal().segment<3>(kBg).array() += options_.gyro_random_walk * options_.gyro_random_walk * dt;
-  Pee.diagonal().segment<3>(kBa).array() +=
-      options_.accel_random_walk * options_.accel_random_walk * dt;
+  propagateCovariance(s.transition, o.gyro_noise_density * o.gyro_noise_density / dt,
+                      o.accel_noise_density * o.accel_noise_density / dt, &Pee);
+  Pee.diagonal().segment<3>(kBg).array() += o.gyro_random_walk * o.gyro_random_walk * dt;
+  Pee.diagonal().segment<3>(kBa).array() += o.accel_random_walk * o.accel_random_walk * dt;
   P_.topLeftCorner<kStateDim, kStateDim>() = 0.5 * (Pee + Pee.transpose());
-  phi_ = s.A * phi_;
+  applyTransition(s.transition, &phi_);  // phi_ <- A phi_
 }
 
 void ImoFilter::syncCrossCovariance() {
@@ -150,14 +114,17 @@ int ImoFilter::findClone(Timestamp t) const {
 Vec3 ImoFilter::predictMeasurement(const RelativePositionMeasurement& m) const {
   const ImoClone& ci = clones_.at(m.clone_i);
   const ImoClone& cj = clones_.at(m.clone_j);
-  return cj.p - ci.p - m.velocity_coefficient * ci.v;
+  // The attitude term is zero at the estimate.
+  return cj.p - ci.p - m.velocity_coefficient * ci.v - m.velocity_matrix * ci.v;
 }
 
 MatX ImoFilter::measurementJacobian(const RelativePositionMeasurement& m) const {
   MatX H = MatX::Zero(3, dim());
   H.block<3, 3>(0, cloneOffset(m.clone_j) + kPos) += Mat3::Identity();
   H.block<3, 3>(0, cloneOffset(m.clone_i) + kPos) -= Mat3::Identity();
-  H.block<3, 3>(0, cloneOffset(m.clone_i) + kVel) -= m.velocity_coefficient * Mat3::Identity();
+  H.block<3, 3>(0, cloneOffset(m.clone_i) + kVel) -=
+      m.velocity_coefficient * Mat3::Identity() + m.velocity_matrix;
+  H.block<3, 3>(0, cloneOffset(m.clone_i) + kTheta) -= m.attitude_jacobian;
   return H;
 }
 
@@ -166,13 +133,17 @@ UpdateOutcome ImoFilter::update(const RelativePositionMeasurement& m) {
       m.clone_j >= static_cast<int>(clones_.size()) || m.clone_i == m.clone_j)
     throw std::logic_error("ImoFilter::update: bad clone indices");
   syncCrossCovariance();
-  // H has only identity blocks: P H^T is a combination of three column blocks of P.
+  // H has at most four 3x3 blocks: P H^T is a combination of column blocks of P.
   const int oi = cloneOffset(m.clone_i), oj = cloneOffset(m.clone_j);
-  const double c = m.velocity_coefficient;
+  const Mat3 C = m.velocity_coefficient * Mat3::Identity() + m.velocity_matrix;
+  const Mat3& J = m.attitude_jacobian;
+  const bool has_c = !C.isZero(0.0), has_j = !J.isZero(0.0);
   MatX PHt = P_.middleCols<3>(oj + kPos) - P_.middleCols<3>(oi + kPos);
-  if (c != 0.0) PHt -= c * P_.middleCols<3>(oi + kVel);
+  if (has_c) PHt.noalias() -= P_.middleCols<3>(oi + kVel) * C.transpose();
+  if (has_j) PHt.noalias() -= P_.middleCols<3>(oi + kTheta) * J.transpose();
   Mat3 HPHt = PHt.middleRows<3>(oj + kPos) - PHt.middleRows<3>(oi + kPos);
-  if (c != 0.0) HPHt -= c * PHt.middleRows<3>(oi + kVel);
+  if (has_c) HPHt -= C * PHt.middleRows<3>(oi + kVel);
+  if (has_j) HPHt -= J * PHt.middleRows<3>(oi + kTheta);
   Mat3 S = HPHt + m.covariance;
   S = 0.5 * (S + S.transpose());
   const Vec3 r = m.z - predictMeasurement(m);
@@ -183,10 +154,13 @@ UpdateOutcome ImoFilter::update(const RelativePositionMeasurement& m) {
     return UpdateOutcome::kRejectedByGate;
 
   const MatX K = S_ldlt.solve(PHt.transpose()).transpose();  // n x 3
-  // Joseph form (I - KH) P (I - KH)' + K R K', expanded with P H' so it costs O(n^2).
-  const MatX KPHt = K * PHt.transpose();
-  MatX P = P_ - KPHt - KPHt.transpose() + K * S * K.transpose();
-  P_ = 0.5 * (P + P.transpose());
+  // Joseph form (I - KH) P (I - KH)' + K R K', expanded with P H' so it costs O(n^2):
+  // P - K H P - P H' K' + K S K' = P - X - X' with X = K (P H')' - K S K' / 2, which is
+  // symmetric by construction. Rank-3 products: coefficient-wise beats the blocked GEMM here.
+  const MatX KS = K * S;
+  MatX X = K.lazyProduct(PHt.transpose());
+  X.noalias() -= 0.5 * KS.lazyProduct(K.transpose());
+  P_ -= X + X.transpose();
   inject(K * r);
   return UpdateOutcome::kApplied;
 }

@@ -6,11 +6,12 @@
 // with rotations perturbed on the right (R = R_hat Exp(dtheta), the hdvio convention) and
 // everything else additive. IMU noise is given as continuous-time densities and discretized per
 // step. Updates use a relative-position measurement between two clones,
-//   z = p_j - p_i - c v_i   (c = 0 for network displacements, c = window length for the
-//                            thrust-model displacement, which does not know v_i)
-// with the covariance update in Joseph form. docs/imo.md.
+//   z = p_j - p_i - C v_i - J dtheta_i   (C = J = 0 for network displacements; the drag
+//                                         model's displacement depends on v_i and theta_i)
+// with the covariance update in Joseph form. IMU steps: imo_propagation.h. docs/imo.md.
 #include <vector>
 
+#include "hdvio/backend/imo/imo_propagation.h"
 #include "hdvio/core/lie.h"
 #include "hdvio/core/time.h"
 
@@ -18,7 +19,6 @@ namespace hdvio::imo {
 
 using MatX = Eigen::MatrixXd;
 using VecX = Eigen::VectorXd;
-using Mat15 = Eigen::Matrix<double, 15, 15>;
 
 constexpr int kStateDim = 15;  // evolving error state
 constexpr int kCloneDim = 9;   // dtheta, dv, dp of one clone
@@ -50,28 +50,25 @@ struct ImoClone {
   Vec3 p = Vec3::Zero();
 };
 
-struct ImoNominalState {
-  Timestamp t = 0;
-  Mat3 R = Mat3::Identity();
-  Vec3 v = Vec3::Zero();
-  Vec3 p = Vec3::Zero();
-  Vec3 bg = Vec3::Zero();
-  Vec3 ba = Vec3::Zero();
-};
-
-// Displacement measurement between clones i < j: z = p_j - p_i - velocity_coefficient * v_i.
+// Displacement measurement between clones i < j:
+//   z = p_j - p_i - C v_i - J dtheta_i,   C = velocity_coefficient I + velocity_matrix,
+// J = attitude_jacobian (a model prediction's sensitivity to clone i's attitude error,
+// linearized at the estimate).
 struct RelativePositionMeasurement {
   int clone_i = 0;
   int clone_j = 0;
   Vec3 z = Vec3::Zero();
   Mat3 covariance = Mat3::Identity();
-  double velocity_coefficient = 0.0;  // s
+  double velocity_coefficient = 0.0;      // s
+  Mat3 velocity_matrix = Mat3::Zero();    // s
+  Mat3 attitude_jacobian = Mat3::Zero();  // m/rad
 };
 
 enum class UpdateOutcome { kApplied, kRejectedByGate };
 
 // One discrete propagation step of the nominal state with bias-free rates held constant over dt,
 // and its error-state transition A (15 x 15) and noise input B (15 x 6, [gyro; accel] noise).
+// Dense form of propagateStep (imo_propagation.h) for tests and analysis; the filter uses the blocks.
 struct PropagationStep {
   ImoNominalState state;
   Mat15 A;
@@ -96,6 +93,11 @@ class ImoFilter {
   void marginalizeClone(int k);
 
   UpdateOutcome update(const RelativePositionMeasurement& m);
+  // Generic EKF update (imo_filter_generic_update.cc): residual r = z - h(x) (m), its Jacobian
+  // H (m x (15 + 9 N)) with respect to the error state, covariance R (m x m); Joseph form.
+  // gate_probability in (0, 1) rejects the update when r' S^-1 r exceeds the chi-square
+  // quantile with m degrees of freedom; <= 0 applies every update.
+  UpdateOutcome updateGeneric(const VecX& r, const MatX& H, const MatX& R, double gate_probability = 0.0);
 
   const ImoNominalState& state() const { return x_; }
   const std::vector<ImoClone>& clones() const { return clones_; }

@@ -26,7 +26,9 @@ struct ImoRunOptions {
 
 struct ImoRunOutput {
   std::vector<NavState> states;  // one per IMU sample after the first (filter), per update (net only)
-  double propagation_s = 0.0;    // thread CPU time per stage
+  // Thread CPU time per stage; together the whole run. propagation = IMU steps and per-sample
+  // output, source = displacement source calls, update = clone, update, marginalization.
+  double propagation_s = 0.0;
   double source_s = 0.0;
   double update_s = 0.0;
   int updates = 0;
