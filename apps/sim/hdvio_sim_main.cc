@@ -47,6 +47,8 @@ void run() {
     if (!FLAGS_no_images)
       simulator.renderImages(&result, (stage / "mav0" / "cam0" / "data").string());
     hdvio::io::writeAsl(result.sequence, stage.string());
+    if (!result.gates.corners.empty())
+      hdvio::io::writeGateData(result.gates, (stage / "mav0").string());
     std::ofstream(stage / "sim_config.yaml") << reader.effectiveYaml() << "\n";
     if (fs::exists(out)) fs::remove_all(out);
     fs::rename(stage, out);
@@ -58,6 +60,9 @@ void run() {
                 "peak speed %.2f m/s, generated in %.1f s\n",
                 out.c_str(), config.duration, seq.imu.size(), seq.images.size(),
                 seq.landmark_observations.size(), simulator.model().trajectory().peakSpeed(), seconds);
+    if (!result.gates.corners.empty())
+      std::printf("gates: %zu corners, %zu corner detections\n", result.gates.corners.size(),
+                  result.gates.detections.size());
     for (const std::string& w : seq.warnings) std::printf("warning: %s\n", w.c_str());
   } catch (...) {
     std::error_code ignored;

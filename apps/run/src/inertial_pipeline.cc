@@ -1,7 +1,7 @@
 // Inertial methods (imo, tlio, model_ekf, net_only): the IMO filter family (docs/imo.md).
 //   imo       EKF + displacement network on thrust + gyro (Cioffi et al. 2023)
 //   tlio      EKF + displacement network on accelerometer + gyro (TLIO-style)
-//   model_ekf EKF + displacement of the thrust model (paper Eq. 2), no network
+//   model_ekf EKF + displacement of the thrust + linear drag model, no network
 //   net_only  network displacements concatenated, no filter
 // All start from the ground-truth state at the first IMU sample with ground truth.
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "hdvio/backend/imo/displacement_source.h"
+#include "hdvio/backend/imo/drag_model.h"
 #include "hdvio/backend/imo/imo_runner.h"
 #include "hdvio/backend/vio_runner.h"
 #include "hdvio/core/error.h"
@@ -40,7 +41,12 @@ class InertialPipeline : public MethodPipeline {
       const ConfigReader m = cfg.optionalSection("model");
       m.readInRange("integration_step_s", &model_step_s_, 1e-4, 0.1);
       m.readInRange("window_s", &options_.window_s, 0.05, 5.0);
+      m.readInRange("thrust_scale", &drag_model_.thrust_scale, 0.1, 10.0);
+      drag_model_.linear_drag = readVec3(m, "linear_drag", drag_model_.linear_drag);
+      m.readOptional("attitude_jacobian", &model_attitude_jacobian_);
       m.finish();
+      if ((drag_model_.linear_drag.array() < 0.0).any())
+        throw InputError(file.path, 0, "model.linear_drag must be >= 0");
     } else {
       const ConfigReader n = cfg.section("network");
       std::string weights;
@@ -164,8 +170,8 @@ class InertialPipeline : public MethodPipeline {
 
   imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust) const {
     if (!model_)
-      return imo::makeThrustModelSource(thrust, model_step_s_, options_.measurement_sigma,
-                                        options_.filter.gravity);
+      return imo::makeDragModelSource(thrust, drag_model_, model_step_s_, options_.measurement_sigma,
+                                      options_.filter.gravity, model_attitude_jacobian_);
     auto model = model_;
     const bool use_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
     const Timestamp w = model->windowDuration();
@@ -179,7 +185,7 @@ class InertialPipeline : public MethodPipeline {
       const learned::MatrixXf window = learned::makeDisplacementWindow(
           *model, seq.imu, thrust, r.t_end, r.world_from_body, r.gyro_bias, r.accel_bias);
       const learned::DisplacementPrediction p = model->predict(window);
-      return imo::DisplacementEstimate{p.displacement, p.covariance, 0.0};
+      return imo::DisplacementEstimate{p.displacement, p.covariance};
     };
   }
 
@@ -188,6 +194,8 @@ class InertialPipeline : public MethodPipeline {
   imo::ImoRunOptions options_;
   std::shared_ptr<const learned::DisplacementModel> model_;
   double model_step_s_ = 0.005;
+  imo::DragModel drag_model_;             // model_ekf: thrust scale and linear drag
+  bool model_attitude_jacobian_ = true;   // model_ekf: attitude Jacobian of the model displacement
   double thrust_coefficient_over_mass_ = 0.0;
   Vec3 thrust_axis_ = Vec3::UnitZ();
   Vec3 init_gyro_bias_ = Vec3::Zero();
@@ -199,13 +207,14 @@ class InertialPipeline : public MethodPipeline {
 }  // namespace
 
 const std::vector<std::string>& inertialMethods() {
-  static const std::vector<std::string> kMethods = {"imo", "tlio", "model_ekf", "net_only"};
+  static const std::vector<std::string> kMethods = {"imo", "tlio", "model_ekf", "net_only", "gate_io"};
   return kMethods;
 }
 
 std::unique_ptr<MethodPipeline> makeInertialPipeline(const std::string& method,
                                                      const ConfigReader& cfg,
                                                      const ExperimentFile& file) {
+  if (method == "gate_io") return makeGateIoPipeline(cfg, file);
   return std::make_unique<InertialPipeline>(method, cfg, file);
 }
 

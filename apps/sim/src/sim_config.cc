@@ -221,6 +221,16 @@ SceneConfig readScene(const ConfigReader& r) {
   return c;
 }
 
+GateDetectionConfig readGateDetection(const ConfigReader& r) {
+  GateDetectionConfig c;
+  r.readOptional("enabled", &c.enabled);
+  r.readInRange("pixel_noise", &c.pixel_noise, 0.0, 100.0);
+  r.readInRange("max_distance", &c.max_distance, 0.1, 1000.0);
+  r.readInRange("dropout", &c.dropout, 0.0, 1.0);
+  r.finish();
+  return c;
+}
+
 }  // namespace
 
 Pose CameraSimConfig::defaultCameraMount() {
@@ -250,6 +260,7 @@ SimConfig loadSimConfig(const ConfigReader& r) {
   if (r.has("imu")) c.imu = readImu(r.section("imu"));
   if (r.has("camera")) c.camera = readCamera(r.section("camera"));
   if (r.has("scene")) c.scene = readScene(r.section("scene"));
+  if (r.has("gate_detection")) c.gate_detection = readGateDetection(r.section("gate_detection"));
   if (c.yaw.mode == "forward" && c.trajectory.type == "hover")
     fail(r, "yaw.mode", "'forward' needs a moving trajectory");
   r.finish();

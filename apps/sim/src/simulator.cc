@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "hdvio/core/error.h"
+#include "hdvio/sim/gate_detections.h"
 
 namespace hdvio::sim {
 namespace fs = std::filesystem;
@@ -158,6 +159,11 @@ SimulationResult Simulator::simulate() const {
         seq.landmark_observations.push_back(
             LandmarkObservation{timestampOf(time), static_cast<int>(i), uv.x(), uv.y()});
       }
+    }
+    if (config_.gate_detection.enabled && !scene_->gates().empty()) {
+      std::vector<std::pair<Timestamp, Pose>> frames;
+      for (double time : cameraTimes()) frames.emplace_back(timestampOf(time), cameraPose(time));
+      result.gates = detectGateCorners(*scene_, *camera_, config_.gate_detection, frames, config_.seed);
     }
   }
   return result;

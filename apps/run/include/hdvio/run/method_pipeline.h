@@ -27,7 +27,7 @@ struct ExperimentFile {
 
 // vio, vimo, vid, hdvio
 const std::vector<std::string>& visualMethods();
-// imo, tlio, model_ekf, net_only
+// imo, tlio, model_ekf, net_only, gate_io
 const std::vector<std::string>& inertialMethods();
 
 std::unique_ptr<MethodPipeline> makeVisualPipeline(const std::string& method,
@@ -36,5 +36,7 @@ std::unique_ptr<MethodPipeline> makeVisualPipeline(const std::string& method,
 std::unique_ptr<MethodPipeline> makeInertialPipeline(const std::string& method,
                                                      const ConfigReader& cfg,
                                                      const ExperimentFile& file);
+// gate_io (apps/run/src/gate_io_pipeline.cc; makeInertialPipeline dispatches to it).
+std::unique_ptr<MethodPipeline> makeGateIoPipeline(const ConfigReader& cfg, const ExperimentFile& file);
 
 }  // namespace hdvio::run

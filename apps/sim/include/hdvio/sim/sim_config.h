@@ -116,6 +116,14 @@ struct SceneConfig {
   double min_clearance = 0.3;     // m, required distance of the flight from the walls
 };
 
+// Race flights: pixel detections of the gates' inner corners (docs/gate_io.md).
+struct GateDetectionConfig {
+  bool enabled = true;         // write gates0/ and gate_corners0/ when the scene has gates
+  double pixel_noise = 1.0;    // px, std of white Gaussian noise per image coordinate
+  double max_distance = 30.0;  // m, corners farther from the camera are not detected
+  double dropout = 0.0;        // probability that a visible corner is missed
+};
+
 struct SimConfig {
   std::string name = "sim";
   std::uint64_t seed = 1;
@@ -129,6 +137,7 @@ struct SimConfig {
   ImuSimConfig imu;
   CameraSimConfig camera;
   SceneConfig scene;
+  GateDetectionConfig gate_detection;
 };
 
 // Reads and validates; calls finish() on every map so unknown keys are errors.

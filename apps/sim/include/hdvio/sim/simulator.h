@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "hdvio/core/sequence.h"
+#include "hdvio/io/gate_corners.h"
 #include "hdvio/sim/camera_model.h"
 #include "hdvio/sim/renderer.h"
 #include "hdvio/sim/scene.h"
@@ -20,6 +21,7 @@ struct SimulationResult {
   Sequence sequence;
   std::vector<TrueState> states;  // at the IMU timestamps (true thrust, forces, rates)
   int clamped_rotor_samples = 0;  // rotor would need negative thrust (speed set to 0)
+  io::GateData gates;  // race with a camera: gate corner map and detections (else empty)
 };
 
 class Simulator {

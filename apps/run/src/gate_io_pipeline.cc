@@ -1,0 +1,193 @@
+// gate_io (issue #10, docs/gate_io.md): the IMO error-state EKF propagated with the IMU and
+// corrected at every camera frame by the reprojections of known race-gate corners, read from
+// the sequence's gates0/ and gate_corners0/ (simulated races). `displacement: network` also
+// fuses a displacement network's relative-position measurements as the imo method does.
+// Starts from the ground-truth state at the first IMU sample with ground truth.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+
+#include "hdvio/backend/imo/gate_io_runner.h"
+#include "hdvio/backend/vio_runner.h"
+#include "hdvio/core/error.h"
+#include "hdvio/io/gate_corners.h"
+#include "hdvio/learned/displacement_model.h"
+#include "hdvio/run/method_pipeline.h"
+#include "hdvio/run/progress.h"
+
+namespace hdvio::run {
+namespace {
+
+Vec3 readVec3(const ConfigReader& r, const std::string& key, const Vec3& fallback) {
+  std::vector<double> v{fallback.x(), fallback.y(), fallback.z()};
+  r.readVector(key, &v, 3);
+  return Vec3(v[0], v[1], v[2]);
+}
+
+// Detections grouped per frame, each corner with its known world position.
+std::vector<imo::GateFrame> gateFrames(const io::GateData& data) {
+  std::vector<imo::GateFrame> frames;
+  for (const io::GateCornerDetection& d : data.detections) {
+    if (frames.empty() || frames.back().t != d.t) frames.push_back({d.t, {}});
+    frames.back().corners.push_back({data.corners.at({d.gate_id, d.corner_id}), Vec2(d.u, d.v)});
+  }
+  return frames;
+}
+
+class GateIoPipeline : public MethodPipeline {
+ public:
+  GateIoPipeline(const ConfigReader& cfg, const ExperimentFile& file) : file_(file) {
+    std::string displacement = "none";
+    cfg.readChoice("displacement", &displacement, {"none", "network"});
+    options_.fuse_displacements = displacement == "network";
+    const ConfigReader g = cfg.optionalSection("gate");
+    g.readInRange("pixel_sigma", &options_.pixel_sigma, 1e-3, 100.0);
+    g.readInRange("gate_probability", &options_.gate_probability, -1.0, 0.999999);
+    g.readInRange("corner_gate_probability", &options_.corner_gate_probability, -1.0, 0.999999);
+    g.readOptional("use_detections", &use_detections_);
+    g.finish();
+    readFilter(cfg.optionalSection("filter"));
+    if (options_.fuse_displacements) {
+      const ConfigReader n = cfg.section("network");
+      std::string weights;
+      n.read("weights", &weights);
+      n.finish();
+      const std::filesystem::path w(weights);
+      model_ = std::make_shared<const learned::DisplacementModel>(learned::DisplacementModel::load(
+          w.is_absolute() || file.dir.empty() ? weights : (std::filesystem::path(file.dir) / w).string()));
+      options_.imo.window_s = model_->windowSeconds();
+      try {
+        imo::checkRunOptions(options_.imo);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(file.path, 0, e.what());
+      }
+    } else if (cfg.has("network")) {
+      throw InputError(file.path, 0, "network is only used with displacement: network");
+    }
+    const ConfigReader r = cfg.optionalSection("run");
+    r.readInRange("start_offset_s", &start_offset_s_, 0.0, 1e6);
+    r.readInRange("duration_s", &duration_s_, 0.0, 1e6);
+    r.finish();
+  }
+
+  RunResults run(const Sequence& seq) override {
+    if (seq.imu.size() < 2) throw InputError(seq.source, 0, "method gate_io needs IMU data");
+    if (!seq.camera) throw InputError(seq.source, 0, "method gate_io needs the cam0 calibration");
+    if (!seq.hasGroundTruth() || !seq.groundtruth.front().has_velocity)
+      throw InputError(seq.source, 0, "method gate_io starts from the ground-truth state (with velocity); the sequence has none");
+    // use_detections: false is the IMU-only (dead-reckoning) baseline: no gate files needed.
+    const std::vector<imo::GateFrame> frames =
+        use_detections_ ? gateFrames(io::readGateData(seq.source)) : std::vector<imo::GateFrame>{};
+    const std::vector<ThrustSample> thrust = thrustSamples(seq);
+    if (model_ && model_->inputKind() == learned::DisplacementInputKind::kThrustGyro && thrust.empty())
+      throw InputError(seq.source, 0, "the thrust_gyro network needs collective thrust; the sequence has none");
+
+    const Timestamp t_gt = seq.groundtruth.front().t + fromSeconds(start_offset_s_);
+    auto first = std::lower_bound(seq.imu.begin(), seq.imu.end(), t_gt,
+                                  [](const ImuSample& s, Timestamp t) { return s.t < t; });
+    if (first == seq.imu.end() || first->t > seq.groundtruth.back().t)
+      throw InputError(seq.source, 0, "no IMU sample inside the ground-truth span");
+    auto last = seq.imu.end();
+    if (duration_s_ > 0.0)
+      last = std::upper_bound(first, seq.imu.end(), first->t + fromSeconds(duration_s_),
+                              [](Timestamp t, const ImuSample& s) { return t < s.t; });
+    const std::vector<ImuSample> imu(first, last);
+    NavState init = groundTruthState(seq, imu.front().t);
+    init.bias << init_gyro_bias_, init_accel_bias_;
+
+    const CameraModel camera = CameraModel::fromCalibration(*seq.camera);
+    Progress progress("gate_io", imu.front().t, imu.back().t);
+    const auto on_progress = [&progress](Timestamp t) { progress.update(t); };
+    const imo::GateIoOutput out =
+        imo::runGateIo(imu, init, options_, camera, seq.camera->T_BS, frames, makeSource(seq, thrust), on_progress);
+    progress.finish();
+
+    RunResults results;
+    results.states = out.states;
+    results.stages.push_back({"propagation", out.propagation_s, static_cast<int>(imu.size())});
+    results.stages.push_back({"gate_update", out.gate_update_s, out.frames_applied + out.frames_rejected});
+    if (options_.fuse_displacements) {
+      const int n = out.displacement_updates + out.displacement_rejected + out.no_displacement;
+      results.stages.push_back({"network", out.source_s, n});
+      results.stages.push_back({"displacement_update", out.displacement_update_s, n});
+    }
+    std::fprintf(stderr,
+                 "hdvio_run: gate updates: %d frames applied (%ld corners), %d gated out, %zu frames "
+                 "with detections, mean chi2 per dof %.2f, %ld corners gated out\n",
+                 out.frames_applied, out.corners_used, out.frames_rejected, frames.size(),
+                 out.mean_chi2_per_dof, out.corners_rejected);
+    if (options_.fuse_displacements)
+      std::fprintf(stderr, "hdvio_run: displacements: %d applied, %d gated out, %d without measurement\n",
+                   out.displacement_updates, out.displacement_rejected, out.no_displacement);
+    return results;
+  }
+
+ private:
+  void readFilter(const ConfigReader& f) {
+    imo::ImoFilterOptions& o = options_.imo.filter;
+    f.readInRange("gyro_noise_density", &o.gyro_noise_density, 0.0, 10.0);
+    f.readInRange("accel_noise_density", &o.accel_noise_density, 0.0, 100.0);
+    f.readInRange("gyro_random_walk", &o.gyro_random_walk, 0.0, 10.0);
+    f.readInRange("accel_random_walk", &o.accel_random_walk, 0.0, 100.0);
+    double att_deg = o.init_attitude_sigma * 180.0 / M_PI, yaw_deg = o.init_yaw_sigma * 180.0 / M_PI;
+    f.readInRange("init_attitude_sigma_deg", &att_deg, 0.0, 180.0);
+    f.readInRange("init_yaw_sigma_deg", &yaw_deg, 0.0, 180.0);
+    o.init_attitude_sigma = att_deg * M_PI / 180.0;
+    o.init_yaw_sigma = yaw_deg * M_PI / 180.0;
+    f.readInRange("init_velocity_sigma", &o.init_velocity_sigma, 0.0, 100.0);
+    f.readInRange("init_position_sigma", &o.init_position_sigma, 0.0, 1000.0);
+    f.readInRange("init_gyro_bias_sigma", &o.init_gyro_bias_sigma, 0.0, 10.0);
+    f.readInRange("init_accel_bias_sigma", &o.init_accel_bias_sigma, 0.0, 100.0);
+    f.readInRange("mahalanobis_factor", &o.mahalanobis_factor, -1.0, 1e6);
+    init_gyro_bias_ = readVec3(f, "init_gyro_bias", init_gyro_bias_);
+    init_accel_bias_ = readVec3(f, "init_accel_bias", init_accel_bias_);
+    f.readInRange("update_rate_hz", &options_.imo.update_rate_hz, 1.0, 1000.0);
+    options_.imo.measurement_sigma = readVec3(f, "measurement_sigma", options_.imo.measurement_sigma);
+    if (!(options_.imo.measurement_sigma.array() > 0.0).all())
+      throw InputError(file_.path, 0, "filter.measurement_sigma must be positive");
+    f.readOptional("use_source_covariance", &options_.imo.use_source_covariance);
+    f.finish();
+  }
+
+  // The displacement network as in the imo method (empty source without a network).
+  imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust) const {
+    if (!model_) return {};
+    auto model = model_;
+    const bool use_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
+    const Timestamp w = model->windowDuration();
+    auto covered = [w](const auto& stream, Timestamp t_end) {
+      return !stream.empty() && stream.front().t <= t_end - w && stream.back().t >= t_end;
+    };
+    return [model, &seq, thrust, use_thrust, covered](const imo::DisplacementRequest& r)
+               -> std::optional<imo::DisplacementEstimate> {
+      if (!covered(seq.imu, r.t_end) || (use_thrust && !covered(thrust, r.t_end))) return std::nullopt;
+      const learned::MatrixXf window = learned::makeDisplacementWindow(
+          *model, seq.imu, thrust, r.t_end, r.world_from_body, r.gyro_bias, r.accel_bias);
+      const learned::DisplacementPrediction p = model->predict(window);
+      imo::DisplacementEstimate e;
+      e.z = p.displacement;
+      e.covariance = p.covariance;
+      return e;
+    };
+  }
+
+  ExperimentFile file_;
+  imo::GateIoOptions options_;
+  std::shared_ptr<const learned::DisplacementModel> model_;
+  Vec3 init_gyro_bias_ = Vec3::Zero();
+  Vec3 init_accel_bias_ = Vec3::Zero();
+  bool use_detections_ = true;
+  double start_offset_s_ = 0.0;
+  double duration_s_ = 0.0;
+};
+
+}  // namespace
+
+std::unique_ptr<MethodPipeline> makeGateIoPipeline(const ConfigReader& cfg, const ExperimentFile& file) {
+  return std::make_unique<GateIoPipeline>(cfg, file);
+}
+
+}  // namespace hdvio::run

@@ -1,0 +1,239 @@
+#include "hdvio/backend/imo/gate_io_runner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <deque>
+#include <optional>
+#include <stdexcept>
+
+namespace hdvio::imo {
+namespace {
+
+double threadSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+ImoNominalState nominalFrom(const NavState& s) {
+  ImoNominalState x;
+  x.t = s.t;
+  x.R = s.T_WB.R();
+  x.p = s.T_WB.p;
+  x.v = s.v_W;
+  x.bg = s.bias.head<3>();
+  x.ba = s.bias.tail<3>();
+  return x;
+}
+
+NavState navFrom(const ImoNominalState& x) {
+  NavState s;
+  s.t = x.t;
+  s.T_WB = Pose(x.R, x.p);
+  s.v_W = x.v;
+  s.bias << x.bg, x.ba;
+  return s;
+}
+
+ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, Timestamp t) {
+  const double s = secondsBetween(a.t, t) / secondsBetween(a.t, b.t);
+  return {t, (1.0 - s) * a.gyro + s * b.gyro, (1.0 - s) * a.accel + s * b.accel};
+}
+
+// Gyro-integrated rotation since the start, for the displacement windows (as in imo_runner.cc).
+class RotationHistory {
+ public:
+  void add(Timestamp t, const Quat& q) {
+    if (!entries_.empty() && entries_.back().first == t) entries_.back().second = q;
+    else entries_.emplace_back(t, q);
+  }
+  Quat at(Timestamp t) const {
+    if (t <= entries_.front().first) return entries_.front().second;
+    if (t >= entries_.back().first) return entries_.back().second;
+    auto hi = std::lower_bound(entries_.begin(), entries_.end(), t,
+                               [](const auto& e, Timestamp tt) { return e.first < tt; });
+    if (hi->first == t) return hi->second;
+    const auto lo = std::prev(hi);
+    const double a = secondsBetween(lo->first, t) / secondsBetween(lo->first, hi->first);
+    return lo->second.slerp(a, hi->second);
+  }
+  void dropBefore(Timestamp t) {
+    while (entries_.size() > 1 && entries_[1].first <= t) entries_.pop_front();
+  }
+
+ private:
+  std::deque<std::pair<Timestamp, Quat>> entries_;
+};
+
+// Keeps the corners whose own 2-dof innovation r_i' S_i^-1 r_i is below the threshold.
+GateFrameMeasurement dropOutlierCorners(const GateFrameMeasurement& m, const MatX& P, double pixel_var,
+                                        double threshold, long* rejected) {
+  std::vector<int> keep;
+  for (std::size_t k = 0; k < m.used.size(); ++k) {
+    const auto H = m.H.middleRows<2>(2 * static_cast<int>(k));
+    const Eigen::Matrix2d S = H * P * H.transpose() + pixel_var * Eigen::Matrix2d::Identity();
+    const Eigen::Vector2d r = m.residual.segment<2>(2 * static_cast<int>(k));
+    if (r.dot(S.ldlt().solve(r)) <= threshold) keep.push_back(static_cast<int>(k));
+  }
+  *rejected += static_cast<long>(m.used.size() - keep.size());
+  if (keep.size() == m.used.size()) return m;
+  GateFrameMeasurement out;
+  out.residual.resize(2 * static_cast<int>(keep.size()));
+  out.H.resize(2 * static_cast<int>(keep.size()), m.H.cols());
+  for (std::size_t j = 0; j < keep.size(); ++j) {
+    out.residual.segment<2>(2 * static_cast<int>(j)) = m.residual.segment<2>(2 * keep[j]);
+    out.H.middleRows<2>(2 * static_cast<int>(j)) = m.H.middleRows<2>(2 * keep[j]);
+    out.used.push_back(m.used[keep[j]]);
+  }
+  return out;
+}
+
+}  // namespace
+
+GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
+                       const GateIoOptions& options, const CameraModel& camera, const Pose& T_BC,
+                       const std::vector<GateFrame>& frames, const DisplacementSource& source,
+                       const std::function<void(Timestamp)>& on_progress) {
+  if (options.fuse_displacements) {
+    checkRunOptions(options.imo);
+    if (!source) throw std::invalid_argument("gate_io: displacement fusion needs a source");
+  }
+  if (!(options.pixel_sigma > 0.0)) throw std::invalid_argument("gate_io: pixel sigma must be positive");
+  auto first = std::lower_bound(imu.begin(), imu.end(), init.t,
+                                [](const ImuSample& s, Timestamp t) { return s.t < t; });
+  if (first == imu.end() || first->t != init.t)
+    throw std::invalid_argument("gate_io: the initial time is not an IMU sample time");
+  const auto k0 = static_cast<std::size_t>(first - imu.begin());
+
+  GateIoOutput out;
+  ImoFilter filter(options.imo.filter);
+  filter.initialize(nominalFrom(init));
+  out.states.push_back(navFrom(filter.state()));
+
+  const bool fuse = options.fuse_displacements;
+  const Timestamp period = fuse ? fromSeconds(1.0 / options.imo.update_rate_hz) : 0;
+  const Timestamp window = fuse ? fromSeconds(options.imo.window_s) : 0;
+  const auto window_clones = fuse ? static_cast<std::size_t>(std::llround(options.imo.window_s * options.imo.update_rate_hz)) : 0;
+  const Mat3 fixed_cov = options.imo.measurement_sigma.cwiseAbs2().asDiagonal();
+  Quat gamma = Quat::Identity();
+  RotationHistory history;
+  history.add(init.t, gamma);
+  if (fuse) filter.addClone();
+  Timestamp next_grid = init.t + period;
+
+  auto frame_it = std::upper_bound(frames.begin(), frames.end(), init.t,
+                                   [](Timestamp t, const GateFrame& f) { return t < f.t; });
+
+  auto step = [&](const ImuSample& from, const ImuSample& to) {
+    const double t0 = threadSeconds();
+    const Vec3 gyro = 0.5 * (from.gyro + to.gyro);
+    const Vec3 accel = 0.5 * (from.accel + to.accel);
+    if (fuse) {
+      gamma = (gamma * quatExp((gyro - filter.state().bg) * secondsBetween(from.t, to.t))).normalized();
+      history.add(to.t, gamma);
+    }
+    filter.propagate(gyro, accel, to.t);
+    out.propagation_s += threadSeconds() - t0;
+  };
+
+  // 2-dof chi-square quantile in closed form: P(chi2_2 > q) = exp(-q / 2).
+  const double corner_threshold =
+      options.corner_gate_probability > 0.0 ? -2.0 * std::log(1.0 - options.corner_gate_probability) : -1.0;
+  const double pixel_var = options.pixel_sigma * options.pixel_sigma;
+
+  auto gate_update = [&](const GateFrame& frame) {
+    const double t0 = threadSeconds();
+    const int dim = kStateDim + kCloneDim * static_cast<int>(filter.clones().size());
+    GateFrameMeasurement m = gateFrameMeasurement(camera, T_BC, filter.state(), frame.corners, dim);
+    if (corner_threshold > 0.0 && !m.used.empty()) m = dropOutlierCorners(m, filter.covariance(), pixel_var,
+                                                                          corner_threshold, &out.corners_rejected);
+    if (!m.used.empty()) {
+      const MatX R = MatX::Identity(m.residual.size(), m.residual.size()) * pixel_var;
+      const UpdateOutcome outcome = filter.updateGeneric(m.residual, m.H, R, options.gate_probability);
+      out.mean_chi2_per_dof += filter.lastMahalanobis() / static_cast<double>(m.residual.size());
+      if (outcome == UpdateOutcome::kApplied) {
+        ++out.frames_applied;
+        out.corners_used += static_cast<long>(m.used.size());
+      } else {
+        ++out.frames_rejected;
+      }
+    }
+    out.gate_update_s += threadSeconds() - t0;
+  };
+
+  auto displacement_update = [&](Timestamp t_end) {
+    double t0 = threadSeconds();
+    filter.addClone();
+    const Timestamp t_begin = t_end - window;
+    const int i = filter.findClone(t_begin);
+    if (i < 0) {
+      while (filter.clones().size() > window_clones + 1) filter.marginalizeClone(0);
+      out.displacement_update_s += threadSeconds() - t0;
+      return;
+    }
+    DisplacementRequest request;
+    request.t_begin = t_begin;
+    request.t_end = t_end;
+    const Quat anchor = Quat(filter.clones()[i].R) * history.at(t_begin).conjugate();
+    request.world_from_body = [&history, anchor](Timestamp t) { return anchor * history.at(t); };
+    request.gyro_bias = filter.state().bg;
+    request.accel_bias = filter.state().ba;
+    request.velocity_begin = filter.clones()[i].v;
+    out.displacement_update_s += threadSeconds() - t0;
+    t0 = threadSeconds();
+    const std::optional<DisplacementEstimate> est = source(request);
+    out.source_s += threadSeconds() - t0;
+    t0 = threadSeconds();
+    if (!est) {
+      ++out.no_displacement;
+    } else {
+      RelativePositionMeasurement rm;
+      rm.clone_i = i;
+      rm.clone_j = static_cast<int>(filter.clones().size()) - 1;
+      rm.z = est->z;
+      rm.covariance = options.imo.use_source_covariance ? est->covariance : fixed_cov;
+      rm.velocity_coefficient = est->velocity_coefficient;
+      rm.velocity_matrix = est->velocity_matrix;
+      rm.attitude_jacobian = est->attitude_jacobian;
+      if (filter.update(rm) == UpdateOutcome::kApplied) ++out.displacement_updates;
+      else ++out.displacement_rejected;
+    }
+    while (!filter.clones().empty() && filter.clones().front().t <= t_begin) filter.marginalizeClone(0);
+    history.dropBefore(filter.clones().front().t);
+    out.displacement_update_s += threadSeconds() - t0;
+  };
+
+  // Each IMU interval is split at the frame and grid times inside it; a frame and a grid time
+  // that coincide: the gate update first, so the clone carries it.
+  for (std::size_t k = k0; k + 1 < imu.size(); ++k) {
+    const ImuSample& b = imu[k + 1];
+    ImuSample cur = imu[k];
+    while (true) {
+      const Timestamp t_frame = frame_it != frames.end() ? frame_it->t : b.t + 1;
+      const Timestamp t_grid = fuse ? next_grid : b.t + 1;
+      const Timestamp t_event = std::min(t_frame, t_grid);
+      if (t_event > b.t) break;
+      if (t_event > cur.t) {
+        const ImuSample m = interpolateImu(imu[k], b, t_event);
+        step(cur, m);
+        cur = m;
+      }
+      if (t_frame == t_event) {
+        gate_update(*frame_it);
+        ++frame_it;
+      } else {
+        displacement_update(t_grid);
+        next_grid += period;
+      }
+    }
+    if (b.t > cur.t) step(cur, b);
+    out.states.push_back(navFrom(filter.state()));
+    if (on_progress) on_progress(b.t);
+  }
+  const int gate_frames = out.frames_applied + out.frames_rejected;
+  if (gate_frames > 0) out.mean_chi2_per_dof /= gate_frames;
+  return out;
+}
+
+}  // namespace hdvio::imo
