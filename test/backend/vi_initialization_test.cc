@@ -16,6 +16,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "hdvio/backend/vio_runner.h"
+#include "hdvio/backend/vio_starter.h"
 #include "hdvio/core/config.h"
 #include "hdvio/io/image.h"
 #include "hdvio/io/sequence_reader.h"
@@ -242,6 +243,67 @@ TEST(ViInitialization, StreamingInitializerSucceedsWithinAFewAttempts) {
   const InitErrors e = errorsOf(seq, init.result());
   EXPECT_LT(e.gravity_deg, 1.0);
   EXPECT_LT(e.scale, 0.05);
+}
+
+// The start policy shared by the track and image runners (VioStarter): which start for which
+// motion and options, and when.
+struct StarterOutcome {
+  StartKind kind = StartKind::kNone;
+  double t_s = -1.0;  // seconds after the first frame
+};
+StarterOutcome runStarter(const Sequence& seq, const VioRunOptions& run,
+                          const std::vector<FrameObservations>& frames) {
+  VioStarter starter(seq, run, imuParams(seq));
+  for (const auto& f : frames)
+    if (starter.addFrame(f)) {
+      EXPECT_TRUE(starter.started());
+      EXPECT_FALSE(starter.addFrame(f).has_value());  // decided once
+      return {starter.kind(), secondsBetween(frames.front().t, f.t)};
+    }
+  return {};
+}
+
+TEST(VioStarter, MovingStartIsVisualInertial) {
+  const Sequence& seq = movingFlight().sequence;
+  const StarterOutcome o = runStarter(seq, VioRunOptions(), framesFromTracks(seq, 0.5, 12));
+  EXPECT_EQ(o.kind, StartKind::kVisualInertial);
+  EXPECT_GT(o.t_s, 1.8);  // needs a ~2 s window
+  EXPECT_LT(o.t_s, 3.0);
+}
+
+TEST(VioStarter, GroundTruthAtTheFirstFrameAndStaticWhenViIsOff) {
+  const Sequence& seq = movingFlight().sequence;
+  const auto frames = framesFromTracks(seq, 0.5, 12);
+  VioRunOptions run;
+  run.init_from_groundtruth = true;
+  StarterOutcome o = runStarter(seq, run, frames);
+  EXPECT_EQ(o.kind, StartKind::kGroundTruth);
+  EXPECT_EQ(o.t_s, 0.0);
+  run = VioRunOptions();
+  run.visual_inertial_init = false;
+  o = runStarter(seq, run, frames);
+  EXPECT_EQ(o.kind, StartKind::kStatic);
+  EXPECT_NEAR(o.t_s, run.static_init_window_s, 0.06);  // as soon as gravity is seen
+}
+
+TEST(VioStarter, HoverStartsStaticAtRestWithoutWaiting) {
+  const auto result = simulate(flightYaml("type: hover", "{mode: fixed}", 4));
+  const Sequence& seq = result.sequence;
+  const StarterOutcome o = runStarter(seq, VioRunOptions(), framesFromTracks(seq, 0.5, 11));
+  EXPECT_EQ(o.kind, StartKind::kStaticAtRest);
+  EXPECT_LT(o.t_s, 0.6);
+}
+
+TEST(VioStarter, BlindMovingStartTimesOutToStatic) {
+  // Moving, and the camera sees nothing: neither VI nor "at rest" applies until the timeout.
+  const Sequence& seq = movingFlight().sequence;
+  std::vector<FrameObservations> blind;
+  for (const auto& f : framesFromTracks(seq, 0.0, 1)) blind.push_back({f.t, {}});
+  VioRunOptions run;
+  run.vi_init_timeout_s = 3.0;
+  const StarterOutcome o = runStarter(seq, run, blind);
+  EXPECT_EQ(o.kind, StartKind::kStaticTimeout);
+  EXPECT_NEAR(o.t_s, 3.0, 0.06);
 }
 
 // What hdvio_run would do with VI initialization as the default: feed frames to the

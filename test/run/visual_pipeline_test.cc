@@ -17,6 +17,7 @@
 #include "../common/run_command.h"
 #include "hdvio/backend/vio_runner.h"
 #include "hdvio/core/config.h"
+#include "hdvio/eval/alignment.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/run/visual_image_runner.h"
 #include "hdvio/sim/simulator.h"
@@ -49,28 +50,75 @@ PositionError positionError(const Sequence& seq, const std::vector<NavState>& st
   return e;
 }
 
+// Position RMS after the rpg posyaw alignment over all states: a visual-inertial or static start
+// has its own gauge (first body at the origin, yaw 0).
+double alignedPositionRms(const Sequence& seq, const std::vector<NavState>& states) {
+  std::vector<Vec3> est, ref;
+  for (const NavState& s : states) {
+    est.push_back(s.T_WB.p);
+    ref.push_back(groundTruthState(seq, s.t).T_WB.p);
+  }
+  const eval::SimilarityTransform T = eval::positionYawAlignment(est, ref);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < est.size(); ++i) sum += (T.apply(est[i]) - ref[i]).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(est.size()));
+}
+
+// Errors of the visual-inertial initialization's window states against ground truth (gauge
+// free): scale from the summed distances to the first state, gravity and velocity in the body.
+struct StartErrors {
+  double scale = 0.0;        // abs(1 - estimated / true)
+  double gravity_deg = 0.0;  // largest angle between estimated and true gravity (body frame)
+  double velocity = 0.0;     // largest body-frame velocity error, m/s
+};
+StartErrors startErrors(const Sequence& seq, const std::vector<NavState>& states) {
+  StartErrors e;
+  double est_len = 0.0, true_len = 0.0;
+  const NavState gt0 = groundTruthState(seq, states.front().t);
+  for (const NavState& s : states) {
+    const NavState gt = groundTruthState(seq, s.t);
+    est_len += (s.T_WB.p - states.front().T_WB.p).norm();
+    true_len += (gt.T_WB.p - gt0.T_WB.p).norm();
+    const Vec3 g_est = s.T_WB.R().transpose() * Vec3::UnitZ();
+    const Vec3 g_true = gt.T_WB.R().transpose() * Vec3::UnitZ();
+    e.gravity_deg = std::max(e.gravity_deg, std::acos(std::clamp(g_est.dot(g_true), -1.0, 1.0)) *
+                                                180.0 / M_PI);
+    e.velocity = std::max(e.velocity, (s.T_WB.R().transpose() * s.v_W -
+                                       gt.T_WB.R().transpose() * gt.v_W).norm());
+  }
+  e.scale = std::abs(1.0 - est_len / true_len);
+  return e;
+}
+
 run::VisualFrontendConfig smallImageFrontend() {
   run::VisualFrontendConfig c;
   c.options.detector.cell_size = 16;  // 320x240: the default 32 px grid leaves too few corners
   return c;
 }
 
+sim::SimConfig simConfig(const std::string& name) {
+  return sim::loadSimConfig(
+      ConfigReader::fromFile(std::string(HDVIO_SOURCE_DIR) + "/config/sim/" + name + ".yaml"));
+}
+
+// Renders the flight into dir/seq (images only, tracks removed) and reads it back.
+Sequence renderImagesOnly(const sim::SimConfig& config, const fs::path& dir) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const sim::Simulator simulator(config);
+  sim::SimulationResult result = simulator.simulate();
+  simulator.renderImages(&result, (dir / "rendered").string());
+  result.sequence.landmark_observations.clear();  // images only
+  io::writeAsl(result.sequence, (dir / "seq").string());
+  fs::remove_all(dir / "rendered");
+  return io::readAsl((dir / "seq").string());
+}
+
 class VisualPipeline : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = fs::temp_directory_path() / ("hdvio_visual_pipeline_test_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    const auto config = sim::loadSimConfig(
-        ConfigReader::fromFile(std::string(HDVIO_SOURCE_DIR) + "/config/sim/ci_images.yaml"));
-    const sim::Simulator simulator(config);
-    sim::SimulationResult result = simulator.simulate();
-    simulator.renderImages(&result, (dir_ / "rendered").string());
-    result.sequence.landmark_observations.clear();  // images only
-    io::writeAsl(result.sequence, (dir_ / "seq").string());
-    fs::remove_all(dir_ / "rendered");
-    sequence_ = new Sequence();
-    *sequence_ = io::readAsl((dir_ / "seq").string());
+    sequence_ = new Sequence(renderImagesOnly(simConfig("ci_images"), dir_));
   }
   static void TearDownTestSuite() {
     delete sequence_;
@@ -172,6 +220,129 @@ TEST_F(VisualPipeline, MissingImagesAreClearErrors) {
   EXPECT_NE(o.output.find("frontend.max_feature"), std::string::npos) << o.output;
 }
 
+TEST_F(VisualPipeline, DefaultStartOnImagesIsVisualInertial) {
+  // ci_images ramps up from rest over its first second, with yaw oscillating: the IMU is not
+  // still, so the default start waits for the visual-inertial initialization on KLT tracks.
+  const auto out = run::runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio),
+                                       VioRunOptions(), smallImageFrontend(), nullptr,
+                                       /*log=*/false);
+  ASSERT_EQ(out.vio.start, StartKind::kVisualInertial) << out.vio.vi_init.reason;
+  EXPECT_TRUE(out.vio.visual_inertial_start);
+  EXPECT_GT(out.init_images, 30);  // a ~2 s window of 20 Hz images went to the KLT tracker
+  EXPECT_EQ(out.init_images + out.images.size(), sequence_->images.size() + 1);
+  // Measured: scale 4.7 %, gravity 0.35 deg, velocity 0.055 m/s, position rms 0.070 m (the
+  // window includes the ramp; docs/vi_initialization.md).
+  const StartErrors e = startErrors(*sequence_, out.vio.vi_init.states);
+  EXPECT_LT(e.scale, 0.07);
+  EXPECT_LT(e.gravity_deg, 2.0);
+  EXPECT_LT(e.velocity, 0.15);
+  EXPECT_LE(out.lost_images, 2);
+  const double rms = alignedPositionRms(*sequence_, out.vio.states);
+  EXPECT_LT(rms, 0.1);
+  std::printf("VI start (ramp) after %d attempts: scale %.2f %%, gravity %.2f deg, velocity "
+              "%.3f m/s, position rms %.4f m\n",
+              out.vio.vi_init_attempts, 100 * e.scale, e.gravity_deg, e.velocity, rms);
+}
+
+// Already flying at the first sample (config/sim/ci_images_moving.yaml: the circle at 1.5 m/s
+// without the ramp, 6 s): a static start guesses zero velocity and a wrong tilt.
+class VisualInertialStartOnImages : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("hdvio_vi_start_test_" + std::to_string(getpid()));
+    sequence_ = new Sequence(renderImagesOnly(simConfig("ci_images_moving"), dir_));
+  }
+  static void TearDownTestSuite() {
+    delete sequence_;
+    fs::remove_all(dir_);
+  }
+  static fs::path dir_;
+  static Sequence* sequence_;
+};
+fs::path VisualInertialStartOnImages::dir_;
+Sequence* VisualInertialStartOnImages::sequence_ = nullptr;
+
+TEST_F(VisualInertialStartOnImages, MovingStartIsMetricAndGravityAligned) {
+  const auto out = run::runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio),
+                                       VioRunOptions(), smallImageFrontend(), nullptr,
+                                       /*log=*/false);
+  ASSERT_EQ(out.vio.start, StartKind::kVisualInertial) << out.vio.vi_init.reason;
+  const double t_init = secondsBetween(sequence_->images.front().t, out.vio.start_t);
+  EXPECT_LT(t_init, 3.0) << "after " << out.vio.vi_init_attempts << " attempts";
+  ASSERT_FALSE(out.vio.vi_init.states.empty());
+  EXPECT_EQ(out.vio.vi_init.latest().t, out.vio.start_t);
+  const StartErrors e = startErrors(*sequence_, out.vio.vi_init.states);
+  EXPECT_LT(e.scale, 0.05);  // measured 2.1 %, 0.53 deg, 0.062 m/s, rms 0.025 m
+  EXPECT_LT(e.gravity_deg, 2.0);
+  EXPECT_LT(e.velocity, 0.15);
+  // The frontend starts its map at that pose and the run stays metric to the end.
+  EXPECT_EQ(out.reinitializations, 0);
+  EXPECT_LE(out.lost_images, 2);
+  EXPECT_TRUE(out.images.back().used_by_backend);
+  const double rms = alignedPositionRms(*sequence_, out.vio.states);
+  EXPECT_LT(rms, 0.05);
+  std::printf("VI start after %.2f s (%d attempts): scale %.2f %%, gravity %.2f deg, velocity "
+              "%.3f m/s, position rms %.4f m over %zu states\n",
+              t_init, out.vio.vi_init_attempts, 100 * e.scale, e.gravity_deg, e.velocity, rms,
+              out.vio.states.size());
+
+  // What the VI start buys: the static start (zero velocity) on the same flight, same bounds.
+  VioRunOptions static_start;
+  static_start.visual_inertial_init = false;
+  const auto guess = run::runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio),
+                                         static_start, smallImageFrontend(), nullptr,
+                                         /*log=*/false);
+  EXPECT_EQ(guess.vio.start, StartKind::kStatic);
+  EXPECT_GT(alignedPositionRms(*sequence_, guess.vio.states), 5 * rms);
+}
+
+// The numbers of docs/vi_initialization.md ("On images"): default (VI) start against the static
+// start on rendered flights; ~2 min. Run with --gtest_also_run_disabled_tests.
+TEST(VisualInertialStartSweep, DISABLED_RenderedFlights) {
+  sim::SimConfig lemniscate = simConfig("ci_images_moving");
+  lemniscate.name = "lemniscate_images";
+  lemniscate.seed = 3;
+  lemniscate.duration = 10.0;
+  lemniscate.trajectory.type = "lemniscate";
+  lemniscate.trajectory.max_speed = 3.0;
+  lemniscate.trajectory.ramp_time = 1.0;
+  lemniscate.trajectory.height_amplitude = 0.3;
+  lemniscate.trajectory.extent = Vec3(2.0, 1.5, 0.3);
+  lemniscate.yaw.amplitude = 20.0 * M_PI / 180.0;
+  const std::vector<sim::SimConfig> flights = {simConfig("ci_images"),
+                                               simConfig("ci_images_moving"), lemniscate,
+                                               simConfig("demo")};
+  const fs::path dir = fs::temp_directory_path() / ("hdvio_vi_sweep_" + std::to_string(getpid()));
+  std::printf("| flight | start | t_init [s] | attempts | scale err %% | gravity [deg] | velocity "
+              "[m/s] | init ms per image | ATE [m] (states) | static: start, ATE all / same "
+              "span [m] |\n");
+  for (const sim::SimConfig& flight : flights) {
+    const Sequence seq = renderImagesOnly(flight, dir);
+    VioRunOptions static_start;
+    static_start.visual_inertial_init = false;
+    const auto vi = run::runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
+                                        VioRunOptions(), smallImageFrontend(), nullptr, false);
+    const auto st = run::runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
+                                        static_start, smallImageFrontend(), nullptr, false);
+    StartErrors e;
+    if (!vi.vio.vi_init.states.empty()) e = startErrors(seq, vi.vio.vi_init.states);
+    std::vector<NavState> same_span;
+    for (const NavState& s : st.vio.states)
+      if (s.t >= vi.vio.start_t) same_span.push_back(s);
+    std::printf("| %s | %s | %.2f | %d | %.2f | %.2f | %.3f | %.1f | %.4f (%zu) | %s, %.4f / %.4f "
+                "|\n",
+                flight.name.c_str(), toString(vi.vio.start).c_str(),
+                secondsBetween(seq.images.front().t, vi.vio.start_t), vi.vio.vi_init_attempts,
+                100 * e.scale, e.gravity_deg, e.velocity,
+                1e3 * vi.init_time_s / std::max(1, vi.init_images),
+                alignedPositionRms(seq, vi.vio.states), vi.vio.states.size(),
+                toString(st.vio.start).c_str(), alignedPositionRms(seq, st.vio.states),
+                alignedPositionRms(seq, same_span));
+    std::fflush(stdout);
+  }
+  fs::remove_all(dir);
+}
+
 TEST(VisualPipelineEuroc, VioOnTheExcerptTracksEveryImageAndStaysNearGroundTruth) {
   const std::string path = std::string(HDVIO_DATA_DIR) + "/euroc/V1_01_easy_excerpt";
   if (!fs::exists(path)) GTEST_SKIP() << "no " << path;
@@ -189,6 +360,26 @@ TEST(VisualPipelineEuroc, VioOnTheExcerptTracksEveryImageAndStaysNearGroundTruth
   // catches a diverging or mis-initialized run, not the accuracy of a moving flight.
   EXPECT_LT(e.rms, 0.4);
   EXPECT_LT(e.max, 0.9);
+}
+
+TEST(VisualPipelineEuroc, DefaultStartOnTheHoverFallsBackToStatic) {
+  // The excerpt hovers with no parallax and a still IMU (its gyro mean is a 0.08 rad/s bias):
+  // the default start is the static one, at the first image after 0.5 s of IMU.
+  const std::string path = std::string(HDVIO_DATA_DIR) + "/euroc/V1_01_easy_excerpt";
+  if (!fs::exists(path)) GTEST_SKIP() << "no " << path;
+  const Sequence seq = io::readAsl(path);
+  const auto out = run::runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
+                                       VioRunOptions(), run::VisualFrontendConfig(), nullptr,
+                                       /*log=*/false);
+  EXPECT_EQ(out.vio.start, StartKind::kStaticAtRest);
+  EXPECT_LT(secondsBetween(seq.images.front().t, out.vio.start_t), 0.6);
+  EXPECT_GT(out.vio.states.size(), 80u);
+  // The hover is IMU-dominated (few landmarks triangulate); the bounds, those of the
+  // ground-truth start above, catch a diverging start, not the accuracy of a moving flight.
+  // Measured 0.014 m with Ceres' default initial trust region, 0.24 m (5 images lost near the
+  // end) with the backend's 1e8 (docs/vi_initialization.md).
+  EXPECT_LE(out.lost_images, 10);
+  EXPECT_LT(alignedPositionRms(seq, out.vio.states), 0.4);
 }
 
 }  // namespace

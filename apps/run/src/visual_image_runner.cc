@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
+#include "hdvio/backend/vio_starter.h"
 #include "hdvio/core/error.h"
 #include "hdvio/factors/imu_preintegration.h"
 #include "hdvio/frontend/gyro_prior.h"
 #include "hdvio/frontend/semi_direct_frontend.h"
 #include "hdvio/io/image.h"
+#include "hdvio/run/init_feature_tracker.h"
 #include "hdvio/run/progress.h"
 
 namespace hdvio::run {
@@ -48,6 +51,24 @@ frontend::BackendEstimate backendEstimate(const VioBackend& backend,
   return est;
 }
 
+void logStart(const VioRunOutput& out, Timestamp first_image_t) {
+  std::fprintf(stderr, "\nhdvio_run: started from the %s initialization at t=%.3f s",
+               toString(out.start).c_str(), toSeconds(out.start_t));
+  if (out.vi_init_attempts == 0) {
+    std::fprintf(stderr, "\n");
+    return;
+  }
+  const ViInitResult& r = out.vi_init;
+  if (r.success)
+    std::fprintf(stderr, " (%.2f s of images, attempt %d: parallax %.1f deg, reprojection "
+                         "%.2f px, scale std %.1f %%)\n",
+                 secondsBetween(first_image_t, out.start_t), out.vi_init_attempts, r.parallax_deg,
+                 r.reprojection_rms_px, 100.0 * r.scale_relative_std);
+  else
+    std::fprintf(stderr, " (visual-inertial: %d attempts, last: %s)\n", out.vi_init_attempts,
+                 r.reason.c_str());
+}
+
 bool plausible(const NavState& s) {
   return s.T_WB.p.allFinite() && s.T_WB.q.coeffs().allFinite() && s.v_W.allFinite() &&
          s.v_W.norm() < 100.0;
@@ -75,6 +96,10 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
   VioBackend backend(opts, CameraModel::fromCalibration(*seq.camera), seq.camera->T_BS,
                      std::move(residual_force));
   frontend::SemiDirectFrontend fe(*seq.camera, config.options);
+  // The first state: the same policy as on tracks; the VI initialization gets KLT tracks,
+  // since the frontend can only start its map at a known (metric) pose.
+  VioStarter starter(seq, run, opts.imu);
+  InitFeatureTracker init_tracker;
 
   ImageRunOutput out;
   std::size_t imu_next = 0, thrust_next = 0;
@@ -95,19 +120,41 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
     if (log) progress.update(ref.t);
     feed_until(ref.t);
     const bool first = !backend.initialized();
+    cv::Mat pixels;
+    double load_ms = 0.0;
+    const auto load = [&] {
+      const auto t_load = Clock::now();
+      pixels = io::loadImage(ref);
+      load_ms = 1e3 * secondsSince(t_load);
+    };
     if (first) {
-      if (ref.t - seq.imu.front().t < fromSeconds(run.static_init_window_s) &&
-          !run.init_from_groundtruth)
-        continue;  // wait for enough IMU to see gravity
-      backend.initialize(run.init_from_groundtruth
-                             ? groundTruthState(seq, ref.t)
-                             : staticInitialization(seq.imu, ref.t, run.static_init_window_s));
+      FrameObservations tracks{ref.t, {}};
+      if (starter.needsObservations()) {
+        load();
+        out.load_time_s += load_ms * 1e-3;
+        ++out.init_images;
+      }
+      const auto t_init = Clock::now();
+      if (!pixels.empty()) tracks = init_tracker.track(ref.t, pixels);
+      const std::optional<NavState> initial = starter.addFrame(tracks);
+      out.init_time_s += secondsSince(t_init);
+      if (!initial) continue;
+      backend.initialize(*initial);
+      out.vio.start = starter.kind();
+      out.vio.start_t = ref.t;
+      out.vio.visual_inertial_start = out.vio.start == StartKind::kVisualInertial;
+      out.vio.vi_init_attempts = starter.viInitAttempts();
+      if (const ViInitResult* r = starter.viInitResult()) out.vio.vi_init = *r;
+      if (log) logStart(out.vio, seq.images.front().t);
+      if (pixels.empty()) load();
+      else load_ms = 0.0;  // already counted with the initialization images
+    } else {
+      load();
     }
     ImageFrameRecord rec;
     rec.t = ref.t;
-    auto t0 = Clock::now();
-    frontend::ImageFrame image{ref.t, io::loadImage(ref)};
-    rec.load_ms = 1e3 * secondsSince(t0);
+    rec.load_ms = load_ms;
+    frontend::ImageFrame image{ref.t, pixels};
 
     const NavState latest = backend.latestState();
     frontend::TrackingPrior prior;
@@ -116,7 +163,7 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
     if (first || config.backend_pose_prior || fe.wantsPosePrior())
       prior.T_WB = predictPose(latest, seq.imu, ref.t, opts.imu);
     prev_image_t = ref.t;
-    t0 = Clock::now();
+    auto t0 = Clock::now();
     const frontend::FrameResult r = fe.track(image, prior);
     rec.frontend_ms = 1e3 * secondsSince(t0);
     rec.stage = r.stage;
@@ -180,6 +227,7 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
   }
   if (log) progress.finish();
   out.vio.backend_time_s = backend_s;
+  if (!starter.started()) throw InputError(seq.source, 0, starter.notStartedReason());
   if (out.vio.frames.empty())
     throw InputError(seq.source, 0, "no image could be processed (images outside the IMU data?)");
   if (log)

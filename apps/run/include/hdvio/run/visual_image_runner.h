@@ -5,6 +5,11 @@
 // back (so the frontend's map stays metric). Synchronous and deterministic: one image at a
 // time, frontend then backend.
 //
+// Start: VioStarter (backend/vio_starter.h) as on landmark tracks. Until it decides, images go
+// to a KLT tracker (init_feature_tracker.h) whose tracks feed the visual-inertial
+// initialization; the frontend then starts its map on the image of the first state, at that
+// metric, gravity-aligned pose (its usual start / re-initialization path).
+//
 // Degradation: an image the frontend cannot track (or with too few features) becomes an
 // IMU-only (and dynamics) step of the backend; the frontend relocalizes and, after a while,
 // re-initializes its map at the backend's pose. Every such image is counted and logged.
@@ -37,6 +42,10 @@ struct ImageRunOutput {
   double load_time_s = 0.0;
   int lost_images = 0;                  // not tracked or too few features: IMU-only steps
   int reinitializations = 0;
+  // Before the first state (vio.start says how it came): images given to the initialization
+  // tracker, and the wall time of that tracking plus the VI initialization attempts.
+  int init_images = 0;
+  double init_time_s = 0.0;
 };
 
 // Throws InputError when the sequence lacks a camera, images, IMU or (dynamics methods) thrust,
