@@ -51,13 +51,12 @@ step "training the residual-force model on the training flight"
 
 step "force prediction on the test flight (never trained on): thrust alone vs thrust + TCN"
 "$bin/train/hdvio_force_eval" --data_root "$out" --data sequence \
-  --weights "$out/model/residual_force.tcn" --out_csv "$out/model/residual_force_on_sequence.csv" |
-  tee "$out/model/force_eval.md"
+  --weights "$out/model/residual_force.tcn" | tee "$out/model/force_eval.md"
 
 step "running vio, vimo, vid and hdvio (trained model) on the test flight"
 methods=(vio vimo vid hdvio)
-configs=(config/experiments/vio.yaml config/experiments/vimo.yaml config/experiments/vid.yaml
-         config/experiments/hdvio_learned_demo.yaml)
+configs=(config/experiments/sim_racing_vio.yaml config/experiments/sim_racing_vimo.yaml
+         config/experiments/sim_racing_vid.yaml config/experiments/hdvio_learned_demo.yaml)
 pids=()
 for i in "${!methods[@]}"; do  # all at once: each is single-threaded, the OS shares the cores
   # --evaluate=false: the joint evaluation below compares all methods in one table
@@ -70,20 +69,14 @@ for i in "${!methods[@]}"; do
 done
 for m in "${methods[@]}"; do tail -n 1 "$out/$m.log"; done
 
-# hdvio's dynamics see the learned residual plus its external force; compare their sum with
-# the simulator's drag + external force (the table's "total-force" columns), like vimo's and
-# vid's external force, which absorbs all non-thrust force.
-/usr/bin/python3 scripts/total_force.py --force "$out/hdvio/stamped_force_estimate.csv" \
-  --residual "$out/model/residual_force_on_sequence.csv" --out "$out/hdvio_total_force.csv"
-
 step "evaluating (posyaw-aligned ATE, RPE, velocity and force RMSE) and plotting"
 "$bin/eval/hdvio_eval" --gt "$out/sequence" \
-  --est "vio=$out/vio,vimo=$out/vimo,vid=$out/vid,hdvio=$out/hdvio:force=$out/hdvio_total_force.csv" \
+  --est "vio=$out/vio,vimo=$out/vimo,vid=$out/vid,hdvio=$out/hdvio" \
   --out "$out/evaluation" --plots
 echo
 cat "$out/evaluation/table.md"
 echo
-echo "Force columns: vimo and vid estimate one external force that absorbs all non-thrust force;"
-echo "hdvio's row is its external force plus the learned residual. Compare all of them with the"
-echo "'total-force' columns (the simulator's drag + external force)."
+echo "Force columns: each run's total non-thrust force (stamped_total_force_estimate.csv: for vimo"
+echo "and vid their external force, which absorbs all non-thrust force; for hdvio the learned"
+echo "residual plus its external force) against the simulator's drag + external force."
 step "done: results, table and figures in $out/ (evaluation/table.md, evaluation/*.png)"

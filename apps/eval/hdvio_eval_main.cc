@@ -17,8 +17,8 @@
 DEFINE_string(gt, "", "ground truth: TUM-order file, EuRoC CSV, KITTI poses or ASL sequence folder");
 DEFINE_string(gt_format, "auto", "auto|tum|kitti|euroc|asl");
 DEFINE_string(force_gt, "", "force_groundtruth0 CSV (default: the ASL folder's, if any)");
-DEFINE_string(est, "", "comma-separated name=path[:velocity=csv][:force=csv]; path is a file or a "
-                       "result folder with stamped_traj_estimate.txt");
+DEFINE_string(est, "", "comma-separated name=path[:velocity=csv][:force=csv][:total_force=csv]; path "
+                       "is a file or a result folder with stamped_traj_estimate.txt");
 DEFINE_string(est_format, "auto", "auto|tum|kitti|euroc|asl");
 DEFINE_string(align, "posyaw", "none|posyaw|se3|sim3");
 DEFINE_int32(align_first_n, -1, "align on the first n associated poses (-1: all)");

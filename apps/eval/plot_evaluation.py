@@ -102,7 +102,11 @@ def force_plot(out, est, data):
     fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
     for k, axis in enumerate("xyz"):
         ax = axes[k]
-        ax.plot(data[:, 0], data[:, 1 + k], color="tab:red", lw=1.0, alpha=0.7, label="estimate")
+        ax.plot(data[:, 0], data[:, 1 + k], color="tab:red", lw=1.0, alpha=0.7,
+                label="estimate (external)")
+        if data.shape[1] >= 13 and np.abs(data[:, 10:13] - data[:, 1:4]).max() > 0:
+            ax.plot(data[:, 0], data[:, 10 + k], color="tab:green", lw=1.0, alpha=0.8,
+                    label="estimate, total (residual + external)")
         ax.plot(data[:, 0], data[:, 4 + k], color="k", lw=1.2, label="external gt")
         ax.plot(data[:, 0], data[:, 7 + k], color="tab:blue", lw=1.2, ls="--",
                 label="total gt (ext + drag)")

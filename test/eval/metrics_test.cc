@@ -6,6 +6,7 @@
 
 #include "hdvio/core/error.h"
 #include "hdvio/eval/association.h"
+#include "hdvio/eval/evaluation.h"
 #include "hdvio/eval/pose_errors.h"
 #include "hdvio/eval/signal_errors.h"
 #include "hdvio/eval/statistics.h"
@@ -171,6 +172,41 @@ TEST(EvalForceErrors, ExternalAndTotalSplitIntoXyAndZ) {
   EXPECT_NEAR(f->external.xy.rmse, 0.0, 1e-12);
 }
 
+// An estimate with a separate total non-thrust force (hdvio: residual + external) is scored
+// on it for the "total" errors and on its external force for the "external" ones.
+TEST(EvalForceErrors, TotalForceOfTheEstimateIsUsedForTheTotalColumn) {
+  GroundTruth gt;
+  gt.trajectory = line(4, 1.0);
+  gt.forces = ForceGroundTruth{};
+  Estimate est;
+  est.trajectory = line(4, 1.0);
+  est.force = VectorSeries{};
+  est.total_force = VectorSeries{};
+  for (int i = 0; i < 4; ++i) {
+    const Timestamp t = i * kNanosPerSecond / 10;
+    gt.forces->t.push_back(t);
+    gt.forces->external.emplace_back(0.5, 0, 0);
+    gt.forces->drag.emplace_back(-3, 0, 0);
+    est.force->t.push_back(t);
+    est.force->value.emplace_back(0.5, 0, 0);        // the external force, exact
+    est.total_force->t.push_back(t);
+    est.total_force->value.emplace_back(-2.5, 0, 0.2);  // drag + external, off by 0.2 in z
+  }
+  EvaluationOptions options;
+  options.evo_rpe = false;
+  options.rpe_fractions.clear();
+  EstimateResult r = evaluateEstimate(gt, est, options, {});
+  ASSERT_TRUE(r.force.has_value());
+  EXPECT_NEAR(r.force->external.total.rmse, 0.0, 1e-12);
+  EXPECT_NEAR(r.force->total.total.rmse, 0.2, 1e-12);
+  EXPECT_NEAR(r.force->total.xy.rmse, 0.0, 1e-12);
+  // Without it, the external force stands for the total (vimo / vid): off by the drag.
+  est.total_force.reset();
+  r = evaluateEstimate(gt, est, options, {});
+  ASSERT_TRUE(r.force.has_value());
+  EXPECT_NEAR(r.force->total.total.rmse, 3.0, 1e-12);
+}
+
 TEST(EvalVelocityErrors, EstimateIsRotatedByTheAlignment) {
   Trajectory gt = line(3, 1.0);
   gt.v.assign(3, Vec3(0, 1, 0));
@@ -181,6 +217,35 @@ TEST(EvalVelocityErrors, EstimateIsRotatedByTheAlignment) {
   ASSERT_TRUE(e.has_value());
   EXPECT_NEAR(e->total.rmse, 0.0, 1e-12);
   EXPECT_NEAR(velocityErrors(gt, est, SimilarityTransform{}, 1000)->total.rmse, std::sqrt(2.0), 1e-12);
+}
+
+// posyaw fits the yaw to the positions: on a trajectory that is small against its position
+// error the fitted yaw (and ATE_R) is noise, and the result says so; on a large one it does not.
+TEST(EvalYawAlignmentNote, SmallTrajectoriesAgainstTheirErrorAreFlagged) {
+  const auto evaluateWithError = [](double extent) {
+    GroundTruth gt;
+    Estimate est;
+    for (int i = 0; i < 40; ++i) {
+      const double a = 2.0 * M_PI * i / 40.0;
+      const Timestamp t = i * kNanosPerSecond / 10;
+      const Vec3 p(extent * std::cos(a), extent * std::sin(a), 1.0);
+      gt.trajectory.push(t, p, Mat3::Identity());
+      // A 0.3 m error that is not a rigid motion: alternating along x.
+      est.trajectory.push(t, p + Vec3(i % 2 ? 0.3 : -0.3, 0, 0), Mat3::Identity());
+    }
+    EvaluationOptions options;
+    options.alignment = AlignmentType::kPosYaw;
+    options.evo_rpe = false;
+    options.rpe_fractions.clear();
+    return evaluateEstimate(gt, est, options, {});
+  };
+  const auto flagged = [](const EstimateResult& r) {
+    for (const auto& n : r.notes)
+      if (n.find("ill-determined") != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(flagged(evaluateWithError(0.5)));   // radius 0.5 m < 3 x 0.3 m
+  EXPECT_FALSE(flagged(evaluateWithError(5.0)));  // radius 5 m
 }
 
 }  // namespace

@@ -2,17 +2,22 @@
 // error with exit code 2 for bad experiments and for sequences that lack what a method needs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <unistd.h>
 
 #include "../common/run_command.h"
+#include "../learned/deterministic_tcn.h"
 #include "hdvio/core/config.h"
+#include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/sim/simulator.h"
 
@@ -21,6 +26,23 @@ namespace {
 namespace fs = std::filesystem;
 
 using Outcome = test::CommandOutcome;
+
+// Rows of a "#timestamp [ns],x,y,z" CSV: stamp and vector.
+std::vector<std::pair<long long, Vec3>> readForceCsv(const fs::path& path) {
+  std::vector<std::pair<long long, Vec3>> rows;
+  std::ifstream f(path);
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ss(line);
+    long long t = 0;
+    char comma = 0;
+    Vec3 v;
+    ss >> t >> comma >> v.x() >> comma >> v.y() >> comma >> v.z();
+    if (ss) rows.push_back({t, v});
+  }
+  return rows;
+}
 Outcome run(const std::string& args) {
   return test::runCommand(std::string(HDVIO_RUN_BINARY) + " " + args);
 }
@@ -74,6 +96,46 @@ TEST_F(HdvioRun, WritesResultsInTheDocumentedFormats) {
   std::stringstream eff;
   eff << cfg_out.rdbuf();
   EXPECT_NE(eff.str().find("num_keyframes: 10"), std::string::npos) << "defaults are written";
+}
+
+// The force outputs: f_ext, the provider's residual force and their sum, row by row; for vimo
+// (no residual model) the total equals f_ext and no residual file is written.
+TEST_F(HdvioRun, WritesExternalResidualAndTotalForces) {
+  const std::string weights = (dir_ / "residual.tcn").string();
+  learned::saveTcnWeights(learned::testing::deterministicTcn(), weights, "hdvio_run test");
+  const std::string cfg = writeConfig(
+      "hdvio_tcn.yaml", "method: hdvio\nresidual_force: {type: tcn, weights: " + weights +
+                            "}\nrun: {init_from_groundtruth: true}\n");
+  const fs::path out = dir_ / "out_hdvio_tcn";
+  Outcome o = run("--config " + cfg + " --dataset " + (dir_ / "seq").string() + " --out " +
+                  out.string() + " --evaluate=false");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto ext = readForceCsv(out / "stamped_force_estimate.csv");
+  const auto res = readForceCsv(out / "stamped_residual_force_estimate.csv");
+  const auto total = readForceCsv(out / "stamped_total_force_estimate.csv");
+  ASSERT_GT(ext.size(), 40u);
+  ASSERT_EQ(res.size(), ext.size());
+  ASSERT_EQ(total.size(), ext.size());
+  double residual_norm = 0.0;
+  for (std::size_t k = 0; k < ext.size(); ++k) {
+    ASSERT_EQ(res[k].first, ext[k].first);
+    ASSERT_EQ(total[k].first, ext[k].first);
+    EXPECT_LT((total[k].second - ext[k].second - res[k].second).norm(), 1e-8) << k;  // 9 decimals
+    residual_norm = std::max(residual_norm, res[k].second.norm());
+  }
+  EXPECT_GT(residual_norm, 1e-3) << "the network's force is written, not zeros";
+
+  const std::string vimo = writeConfig("vimo_forces.yaml", "method: vimo\nrun: {init_from_groundtruth: true}\n");
+  const fs::path out_vimo = dir_ / "out_vimo_forces";
+  o = run("--config " + vimo + " --dataset " + (dir_ / "seq").string() + " --out " +
+          out_vimo.string() + " --evaluate=false");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  EXPECT_FALSE(fs::exists(out_vimo / "stamped_residual_force_estimate.csv"));
+  const auto vimo_ext = readForceCsv(out_vimo / "stamped_force_estimate.csv");
+  const auto vimo_total = readForceCsv(out_vimo / "stamped_total_force_estimate.csv");
+  ASSERT_EQ(vimo_total.size(), vimo_ext.size());
+  for (std::size_t k = 0; k < vimo_ext.size(); ++k)
+    EXPECT_EQ(vimo_total[k].second, vimo_ext[k].second) << k;
 }
 
 TEST_F(HdvioRun, BadExperimentsAndMissingSensorsAreClearErrors) {

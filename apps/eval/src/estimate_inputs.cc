@@ -15,6 +15,7 @@ const char* const kVelocityNames[] = {"stamped_velocity_estimate.csv", "velocity
                                       "velocity.csv"};
 const char* const kForceNames[] = {"stamped_force_estimate.csv", "force_estimate.csv",
                                    "external_force_estimate.csv", "force.csv"};
+const char* const kTotalForceNames[] = {"stamped_total_force_estimate.csv"};
 
 template <std::size_t N>
 std::optional<std::string> firstExisting(const fs::path& dir, const char* const (&names)[N]) {
@@ -72,7 +73,9 @@ std::vector<EstimateSpec> parseEstimateList(const std::string& list) {
       if (value.empty()) throw InputError("--est", 0, "'" + parts[i] + "' needs key=file");
       if (key == "velocity") spec.velocity_path = value;
       else if (key == "force") spec.force_path = value;
-      else throw InputError("--est", 0, "unknown estimate option '" + key + "' (velocity|force)");
+      else if (key == "total_force") spec.total_force_path = value;
+      else throw InputError("--est", 0,
+                            "unknown estimate option '" + key + "' (velocity|force|total_force)");
     }
     specs.push_back(spec);
   }
@@ -85,6 +88,7 @@ Estimate loadEstimate(const EstimateSpec& spec, TrajectoryFormat format) {
   std::string trajectory_path = spec.path;
   std::optional<std::string> velocity_path = spec.velocity_path;
   std::optional<std::string> force_path = spec.force_path;
+  std::optional<std::string> total_force_path = spec.total_force_path;
   const bool asl = format == TrajectoryFormat::kAslFolder ||
                    (format == TrajectoryFormat::kAuto && fs::exists(fs::path(spec.path) / "mav0"));
   if (fs::is_directory(spec.path) && !asl) {
@@ -92,11 +96,20 @@ Estimate loadEstimate(const EstimateSpec& spec, TrajectoryFormat format) {
     if (!found) throw InputError(spec.path, 0, "result folder has no stamped_traj_estimate.txt");
     trajectory_path = *found;
     if (!velocity_path) velocity_path = firstExisting(spec.path, kVelocityNames);
-    if (!force_path) force_path = firstExisting(spec.path, kForceNames);
+    // An explicit force= file alone keeps its old meaning (both force columns from it).
+    if (!force_path) {
+      force_path = firstExisting(spec.path, kForceNames);
+      if (!total_force_path) total_force_path = firstExisting(spec.path, kTotalForceNames);
+    }
   }
   est.trajectory = readTrajectory(trajectory_path, format);
   if (velocity_path) est.velocity = readVectorSeries(*velocity_path);
   if (force_path) est.force = readVectorSeries(*force_path);
+  if (total_force_path) {
+    if (!est.force)
+      throw InputError(*total_force_path, 0, "a total force needs the external force (force=) too");
+    est.total_force = readVectorSeries(*total_force_path);
+  }
   return est;
 }
 

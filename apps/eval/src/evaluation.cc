@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <optional>
 #include <sstream>
+#include <string>
 
 namespace hdvio::eval {
 
@@ -16,6 +19,32 @@ std::vector<double> relativeErrorDistances(const GroundTruth& gt, const Evaluati
   d.erase(std::unique(d.begin(), d.end()), d.end());
   return d;
 }
+
+namespace {
+
+// An alignment that fits the yaw to the positions cannot find it when the trajectory's horizontal
+// extent is small against the position error (hovering, small flights): ATE_R then measures the
+// fitted yaw, not the estimate's attitude. Says so, with the numbers.
+std::optional<std::string> yawAlignmentNote(AlignmentType alignment, const Trajectory& ref,
+                                            double ate_rmse) {
+  if (alignment == AlignmentType::kNone || ref.p.size() < 2 || !std::isfinite(ate_rmse))
+    return std::nullopt;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Vec3& p : ref.p) mean += p.head<2>();
+  mean /= static_cast<double>(ref.p.size());
+  double sq = 0.0;
+  for (const Vec3& p : ref.p) sq += (p.head<2>() - mean).squaredNorm();
+  const double extent = std::sqrt(sq / static_cast<double>(ref.p.size()));  // RMS radius, m
+  if (extent >= 3.0 * ate_rmse) return std::nullopt;
+  std::ostringstream note;
+  note << std::setprecision(3) << "ATE_R: the horizontal extent of the trajectory (RMS radius "
+       << extent << " m) is under 3x the position error (" << ate_rmse
+       << " m), so the yaw the " << alignmentName(alignment)
+       << " alignment fits, and with it ATE_R, is ill-determined; compare with --align none";
+  return note.str();
+}
+
+}  // namespace
 
 EstimateResult evaluateEstimate(const GroundTruth& gt, const Estimate& est,
                                 const EvaluationOptions& options,
@@ -33,6 +62,9 @@ EstimateResult evaluateEstimate(const GroundTruth& gt, const Estimate& est,
   r.ate = absoluteErrors(pair.ref, r.est_aligned);
   r.ate_translation = computeStatistics(r.ate.translation);
   r.ate_rotation_deg = computeStatistics(r.ate.rotation_deg);
+  if (const std::optional<std::string> note = yawAlignmentNote(options.alignment, pair.ref,
+                                                                r.ate_translation.rmse))
+    r.notes.push_back(*note);
 
   if (options.evo_rpe) {
     // Relative errors do not depend on a rigid alignment; with Sim(3) they see the scale.
@@ -83,6 +115,13 @@ EstimateResult evaluateEstimate(const GroundTruth& gt, const Estimate& est,
       for (Timestamp& t : shifted.t) t += fromSeconds(options.association.time_offset_s);
       r.force = forceErrors(*gt.forces, shifted, max_diff);
       if (!r.force) r.notes.push_back("force: no ground-truth force at the estimate's stamps");
+      if (r.force && est.total_force) {
+        VectorSeries total = *est.total_force;
+        for (Timestamp& t : total.t) t += fromSeconds(options.association.time_offset_s);
+        const std::optional<ForceErrors> with_total = forceErrors(*gt.forces, total, max_diff);
+        if (with_total) r.force->total = with_total->total;
+        else r.notes.push_back("force: no ground-truth force at the total force's stamps");
+      }
     }
   }
   return r;

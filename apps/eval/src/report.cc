@@ -1,5 +1,7 @@
 #include "hdvio/eval/report.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -214,14 +216,20 @@ void writeReport(const EvaluationReport& report, const GroundTruth& gt, const st
 
     if (r.force) {
       std::ostringstream f;
-      f << "# t_s,est_x,est_y,est_z,ext_x,ext_y,ext_z,total_x,total_y,total_z\n";
+      // total_est: the estimate's total non-thrust force (hdvio: residual + external; else the
+      // external estimate again), matched at the same stamps.
+      f << "# t_s,est_x,est_y,est_z,ext_x,ext_y,ext_z,total_x,total_y,total_z,total_est_x,total_est_y,"
+           "total_est_z\n";
       const VectorErrors& e = r.force->external;
       const VectorErrors& tot = r.force->total;
-      for (std::size_t i = 0; i < e.t.size(); ++i)
+      const std::size_t n = std::min(e.t.size(), tot.t.size());
+      for (std::size_t i = 0; i < n; ++i)
         f << jnum(secondsBetween(t0, e.t[i])) << "," << jnum(e.estimate[i].x()) << ","
           << jnum(e.estimate[i].y()) << "," << jnum(e.estimate[i].z()) << "," << jnum(e.truth[i].x())
           << "," << jnum(e.truth[i].y()) << "," << jnum(e.truth[i].z()) << ","
-          << jnum(tot.truth[i].x()) << "," << jnum(tot.truth[i].y()) << "," << jnum(tot.truth[i].z()) << "\n";
+          << jnum(tot.truth[i].x()) << "," << jnum(tot.truth[i].y()) << "," << jnum(tot.truth[i].z())
+          << "," << jnum(tot.estimate[i].x()) << "," << jnum(tot.estimate[i].y()) << ","
+          << jnum(tot.estimate[i].z()) << "\n";
       writeFileAtomically(csvPath(plot_dir.string(), k, "force"), f.str());
     }
   }

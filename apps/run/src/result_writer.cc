@@ -46,12 +46,25 @@ void writeResults(const RunResults& r, const std::string& out_dir) {
   vel << "#timestamp [ns],v_x [m s^-1],v_y [m s^-1],v_z [m s^-1]\n";
   auto bias = openOut(tmp / "stamped_bias_estimate.csv");
   bias << "#timestamp [ns],b_w_x [rad s^-1],b_w_y,b_w_z,b_a_x [m s^-2],b_a_y,b_a_z\n";
-  std::ofstream force;
+  const bool has_residual = r.has_force && !r.residual_force_B.empty();
+  if (has_residual && r.residual_force_B.size() != r.states.size())
+    throw std::logic_error("writeResults: one residual force per state expected");
+  // Forces (FORMATS.md: IMU frame): external, learned residual (hdvio with a model) and the
+  // total non-thrust force f_res + f_ext the dynamics use, the like-for-like quantity across
+  // methods (for vimo / vid it equals f_ext).
+  std::ofstream force, residual, total;
   if (r.has_force) {
     force = openOut(tmp / "stamped_force_estimate.csv");
     force << "#timestamp [ns],f_ext_x [m s^-2],f_ext_y [m s^-2],f_ext_z [m s^-2]\n";
+    total = openOut(tmp / "stamped_total_force_estimate.csv");
+    total << "#timestamp [ns],f_total_x [m s^-2],f_total_y [m s^-2],f_total_z [m s^-2]\n";
   }
-  for (const NavState& s : r.states) {
+  if (has_residual) {
+    residual = openOut(tmp / "stamped_residual_force_estimate.csv");
+    residual << "#timestamp [ns],f_res_x [m s^-2],f_res_y [m s^-2],f_res_z [m s^-2]\n";
+  }
+  for (std::size_t k = 0; k < r.states.size(); ++k) {
+    const NavState& s = r.states[k];
     const Pose& T = s.T_WB;
     traj << toSeconds(s.t) << ' ' << T.p.x() << ' ' << T.p.y() << ' ' << T.p.z() << ' '
          << T.q.x() << ' ' << T.q.y() << ' ' << T.q.z() << ' ' << T.q.w() << '\n';
@@ -62,6 +75,12 @@ void writeResults(const RunResults& r, const std::string& out_dir) {
     if (r.has_force) {
       const Vec3 f_body = T.q.conjugate() * s.f_ext_W;  // FORMATS.md: forces in the IMU frame
       force << s.t << ',' << f_body.x() << ',' << f_body.y() << ',' << f_body.z() << '\n';
+      const Vec3 f_total = f_body + (has_residual ? r.residual_force_B[k] : Vec3::Zero());
+      total << s.t << ',' << f_total.x() << ',' << f_total.y() << ',' << f_total.z() << '\n';
+    }
+    if (has_residual) {
+      const Vec3& f = r.residual_force_B[k];
+      residual << s.t << ',' << f.x() << ',' << f.y() << ',' << f.z() << '\n';
     }
   }
   auto timing = openOut(tmp / "timing.csv");
@@ -80,7 +99,11 @@ void writeResults(const RunResults& r, const std::string& out_dir) {
     f->close();
     if (!*f) throw InputError(tmp.string(), 0, "writing results failed (disk full?)");
   }
-  if (force.is_open()) force.close();
+  for (auto* f : {&force, &residual, &total}) {
+    if (!f->is_open()) continue;
+    f->close();
+    if (!*f) throw InputError(tmp.string(), 0, "writing results failed (disk full?)");
+  }
   fs::remove_all(final_dir, ec);
   fs::rename(tmp, final_dir, ec);
   if (ec) throw InputError(final_dir.string(), 0, "cannot move results into place: " + ec.message());

@@ -22,8 +22,8 @@ class VisualPipeline : public MethodPipeline {
     options_ = loadVioBackendOptions(cfg.optionalSection("backend"), method_);
     const ConfigReader r = cfg.optionalSection("run");
     r.readOptional("init_from_groundtruth", &run_.init_from_groundtruth);
-    // Landmark tracks: visual-inertial initialization (static when the start is at rest).
-    // Images: the frontend needs a first pose, so the start is static or ground truth.
+    // The start (VioStarter, on tracks and images alike): visual-inertial initialization, static
+    // when the start is at rest or the initialization times out, ground truth as an option.
     r.readOptional("visual_inertial_init", &run_.visual_inertial_init);
     r.readInRange("vi_init_window_s", &run_.vi_init_window_s, 0.5, 10.0);
     r.readInRange("vi_init_timeout_s", &run_.vi_init_timeout_s, 0.0, 60.0);
@@ -64,12 +64,12 @@ class VisualPipeline : public MethodPipeline {
     VioRunOutput out;
     if (resolveObservationSource(frontend_.source, seq) == ObservationSource::kTracks) {
       out = runVioOnTracks(seq, options_, run_, residual_force);
-      if (!run_.init_from_groundtruth)
-        std::fprintf(stderr, "hdvio_run: started from the %s initialization\n",
-                     out.visual_inertial_start ? "visual-inertial" : "static");
+      std::fprintf(stderr, "hdvio_run: started from the %s initialization at %.2f s\n",
+                   toString(out.start).c_str(), toSeconds(out.start_t - seq.imu.front().t));
     } else {
       ImageRunOutput images = runVioOnImages(seq, options_, run_, frontend_, residual_force);
       out = std::move(images.vio);
+      results.stages.push_back({"initialization", images.init_time_s, images.init_images});
       results.stages.push_back({"image_loading", images.load_time_s,
                                 static_cast<int>(images.images.size())});
       results.stages.push_back({"frontend", images.frontend_time_s,
@@ -78,6 +78,7 @@ class VisualPipeline : public MethodPipeline {
 
     results.states = out.states;
     results.has_force = usesDynamics(method_);
+    if (provider_) results.residual_force_B = residualForcesAtStates(seq, thrust, out.states);
     for (const auto& f : out.frames)
       results.timing.push_back({f.state.t, 1e3 * f.solve_time_s, f.solver_iterations,
                                 f.landmarks_in_window, f.observations_used, f.keyframe});
@@ -86,6 +87,25 @@ class VisualPipeline : public MethodPipeline {
   }
 
  private:
+  // The provider's residual force at each state (body frame), for the force outputs: evaluated
+  // after the run with the state's final gyro-bias estimate, from the thrust samples around the
+  // state's time (linear between them, as the dynamics preintegration uses it).
+  std::vector<Vec3> residualForcesAtStates(const Sequence& seq,
+                                           const std::vector<ThrustSample>& thrust,
+                                           const std::vector<NavState>& states) const {
+    std::vector<Vec3> out;
+    out.reserve(states.size());
+    const Timestamp margin = fromSeconds(0.05);  // thrust samples on both sides at >= 20 Hz
+    for (const NavState& s : states) {
+      const Timestamp from = s.t - margin - fromSeconds(provider_->historySeconds());
+      const auto inputs = learned::makeDynamicsInputs(seq.imu, thrust, from, s.t + margin);
+      const auto forces =
+          provider_->residualForces(inputs, s.t - margin, s.t + margin, s.bias.head<3>());
+      out.push_back(forces.empty() ? Vec3::Zero() : learned::residualForceAt(forces, s.t));
+    }
+    return out;
+  }
+
   VioMethod method_;
   ExperimentFile file_;
   VioBackendOptions options_;

@@ -1,8 +1,11 @@
 #pragma once
 // Turning the tool's arguments into loaded inputs. An estimate is given as
-//   name=path[:velocity=file][:force=file]
+//   name=path[:velocity=file][:force=file][:total_force=file]
 // where path is a trajectory file or a result folder holding stamped_traj_estimate.txt and,
-// optionally, velocity/force CSVs under their usual names. Several estimates are separated by
+// optionally, velocity/force CSVs under their usual names. force= is the external force (also
+// used for the total-force errors unless a total force is given); total_force= the total
+// non-thrust force f_res + f_ext (a result folder's stamped_total_force_estimate.csv is picked up
+// unless force= is given alone). Several estimates are separated by
 // commas (gflags cannot repeat a flag).
 #include <optional>
 #include <string>
@@ -18,6 +21,7 @@ struct EstimateSpec {
   std::string path;
   std::optional<std::string> velocity_path;
   std::optional<std::string> force_path;
+  std::optional<std::string> total_force_path;
 };
 
 // Throws InputError for empty lists, bad names (allowed: letters, digits, _ - .) and duplicates.

@@ -33,7 +33,10 @@ struct Estimate {
   std::string name;
   Trajectory trajectory;
   std::optional<VectorSeries> velocity;  // falls back to the trajectory's own velocity column
-  std::optional<VectorSeries> force;
+  std::optional<VectorSeries> force;        // external force f_ext (IMU frame)
+  // Total non-thrust force (f_res + f_ext, IMU frame) when the estimator writes it separately
+  // (hdvio with a learned residual force); the "total" force errors use it, else `force`.
+  std::optional<VectorSeries> total_force;
 };
 
 struct RelativeErrorSummary {

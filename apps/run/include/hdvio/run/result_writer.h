@@ -1,7 +1,7 @@
 #pragma once
 // Writes an estimator's results in the formats of FORMATS.md: the TUM-order trajectory plus
-// CSVs of velocity, biases and external force (IMU frame) with the same timestamps, per-frame
-// timing, per-stage timing and the effective configuration. Everything goes to a temporary folder that is
+// CSVs of velocity, biases and forces (IMU frame: external, learned residual, their sum) with the
+// same timestamps, per-frame timing, per-stage timing and the effective configuration. Everything goes to a temporary folder that is
 // renamed into place at the end, so a failed run never leaves partial results.
 #include <string>
 #include <vector>
@@ -33,6 +33,9 @@ struct RunResults {
   std::vector<StageTiming> stages;   // per stage, whole run
   std::string effective_config;  // YAML
   bool has_force = false;
+  // Learned residual force (IMU frame, m/s^2) at each state, parallel to states; empty when the
+  // method has no residual-force model (then the total non-thrust force is f_ext alone).
+  std::vector<Vec3> residual_force_B;
 };
 
 // Throws InputError unless out_dir is absent, empty, or an earlier hdvio result (which will be
