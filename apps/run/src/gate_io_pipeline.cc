@@ -5,7 +5,6 @@
 // Starts from the ground-truth state at the first IMU sample with ground truth.
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -15,17 +14,12 @@
 #include "hdvio/core/error.h"
 #include "hdvio/io/gate_corners.h"
 #include "hdvio/learned/displacement_model.h"
+#include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
 #include "hdvio/run/progress.h"
 
 namespace hdvio::run {
 namespace {
-
-Vec3 readVec3(const ConfigReader& r, const std::string& key, const Vec3& fallback) {
-  std::vector<double> v{fallback.x(), fallback.y(), fallback.z()};
-  r.readVector(key, &v, 3);
-  return Vec3(v[0], v[1], v[2]);
-}
 
 // Detections grouped per frame, each corner with its known world position.
 std::vector<imo::GateFrame> gateFrames(const io::GateData& data) {
@@ -49,15 +43,12 @@ class GateIoPipeline : public MethodPipeline {
     g.readInRange("corner_gate_probability", &options_.corner_gate_probability, -1.0, 0.999999);
     g.readOptional("use_detections", &use_detections_);
     g.finish();
-    readFilter(cfg.optionalSection("filter"));
+    ImoFilterSection filter{&options_.imo, init_gyro_bias_, init_accel_bias_};
+    readImoFilterSection(cfg.optionalSection("filter"), file.path, &filter);
+    init_gyro_bias_ = filter.init_gyro_bias;
+    init_accel_bias_ = filter.init_accel_bias;
     if (options_.fuse_displacements) {
-      const ConfigReader n = cfg.section("network");
-      std::string weights;
-      n.read("weights", &weights);
-      n.finish();
-      const std::filesystem::path w(weights);
-      model_ = std::make_shared<const learned::DisplacementModel>(learned::DisplacementModel::load(
-          w.is_absolute() || file.dir.empty() ? weights : (std::filesystem::path(file.dir) / w).string()));
+      model_ = loadDisplacementNetwork(cfg.section("network"), file.dir);
       options_.imo.window_s = model_->windowSeconds();
       try {
         imo::checkRunOptions(options_.imo);
@@ -126,52 +117,10 @@ class GateIoPipeline : public MethodPipeline {
   }
 
  private:
-  void readFilter(const ConfigReader& f) {
-    imo::ImoFilterOptions& o = options_.imo.filter;
-    f.readInRange("gyro_noise_density", &o.gyro_noise_density, 0.0, 10.0);
-    f.readInRange("accel_noise_density", &o.accel_noise_density, 0.0, 100.0);
-    f.readInRange("gyro_random_walk", &o.gyro_random_walk, 0.0, 10.0);
-    f.readInRange("accel_random_walk", &o.accel_random_walk, 0.0, 100.0);
-    double att_deg = o.init_attitude_sigma * 180.0 / M_PI, yaw_deg = o.init_yaw_sigma * 180.0 / M_PI;
-    f.readInRange("init_attitude_sigma_deg", &att_deg, 0.0, 180.0);
-    f.readInRange("init_yaw_sigma_deg", &yaw_deg, 0.0, 180.0);
-    o.init_attitude_sigma = att_deg * M_PI / 180.0;
-    o.init_yaw_sigma = yaw_deg * M_PI / 180.0;
-    f.readInRange("init_velocity_sigma", &o.init_velocity_sigma, 0.0, 100.0);
-    f.readInRange("init_position_sigma", &o.init_position_sigma, 0.0, 1000.0);
-    f.readInRange("init_gyro_bias_sigma", &o.init_gyro_bias_sigma, 0.0, 10.0);
-    f.readInRange("init_accel_bias_sigma", &o.init_accel_bias_sigma, 0.0, 100.0);
-    f.readInRange("mahalanobis_factor", &o.mahalanobis_factor, -1.0, 1e6);
-    init_gyro_bias_ = readVec3(f, "init_gyro_bias", init_gyro_bias_);
-    init_accel_bias_ = readVec3(f, "init_accel_bias", init_accel_bias_);
-    f.readInRange("update_rate_hz", &options_.imo.update_rate_hz, 1.0, 1000.0);
-    options_.imo.measurement_sigma = readVec3(f, "measurement_sigma", options_.imo.measurement_sigma);
-    if (!(options_.imo.measurement_sigma.array() > 0.0).all())
-      throw InputError(file_.path, 0, "filter.measurement_sigma must be positive");
-    f.readOptional("use_source_covariance", &options_.imo.use_source_covariance);
-    f.finish();
-  }
-
   // The displacement network as in the imo method (empty source without a network).
   imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust) const {
     if (!model_) return {};
-    auto model = model_;
-    const bool use_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
-    const Timestamp w = model->windowDuration();
-    auto covered = [w](const auto& stream, Timestamp t_end) {
-      return !stream.empty() && stream.front().t <= t_end - w && stream.back().t >= t_end;
-    };
-    return [model, &seq, thrust, use_thrust, covered](const imo::DisplacementRequest& r)
-               -> std::optional<imo::DisplacementEstimate> {
-      if (!covered(seq.imu, r.t_end) || (use_thrust && !covered(thrust, r.t_end))) return std::nullopt;
-      const learned::MatrixXf window = learned::makeDisplacementWindow(
-          *model, seq.imu, thrust, r.t_end, r.world_from_body, r.gyro_bias, r.accel_bias);
-      const learned::DisplacementPrediction p = model->predict(window);
-      imo::DisplacementEstimate e;
-      e.z = p.displacement;
-      e.covariance = p.covariance;
-      return e;
-    };
+    return makeNetworkDisplacementSource(model_, seq, thrust);
   }
 
   ExperimentFile file_;

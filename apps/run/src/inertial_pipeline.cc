@@ -5,7 +5,6 @@
 //   net_only  network displacements concatenated, no filter
 // All start from the ground-truth state at the first IMU sample with ground truth.
 #include <algorithm>
-#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -15,28 +14,21 @@
 #include "hdvio/backend/vio_runner.h"
 #include "hdvio/core/error.h"
 #include "hdvio/learned/displacement_model.h"
+#include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
 #include "hdvio/run/progress.h"
 
 namespace hdvio::run {
 namespace {
 
-Vec3 readVec3(const ConfigReader& r, const std::string& key, const Vec3& fallback) {
-  std::vector<double> v{fallback.x(), fallback.y(), fallback.z()};
-  r.readVector(key, &v, 3);
-  return Vec3(v[0], v[1], v[2]);
-}
-
-std::string resolvePath(const std::string& path, const std::string& dir) {
-  const std::filesystem::path p(path);
-  return p.is_absolute() || dir.empty() ? path : (std::filesystem::path(dir) / p).string();
-}
-
 class InertialPipeline : public MethodPipeline {
  public:
   InertialPipeline(const std::string& method, const ConfigReader& cfg, const ExperimentFile& file)
       : method_(method), file_(file) {
-    readFilter(cfg.optionalSection("filter"));
+    ImoFilterSection filter{&options_, init_gyro_bias_, init_accel_bias_};
+    readImoFilterSection(cfg.optionalSection("filter"), file.path, &filter);
+    init_gyro_bias_ = filter.init_gyro_bias;
+    init_accel_bias_ = filter.init_accel_bias;
     if (method_ == "model_ekf") {
       const ConfigReader m = cfg.optionalSection("model");
       m.readInRange("integration_step_s", &model_step_s_, 1e-4, 0.1);
@@ -48,12 +40,8 @@ class InertialPipeline : public MethodPipeline {
       if ((drag_model_.linear_drag.array() < 0.0).any())
         throw InputError(file.path, 0, "model.linear_drag must be >= 0");
     } else {
-      const ConfigReader n = cfg.section("network");
       std::string weights;
-      n.read("weights", &weights);
-      n.finish();
-      model_ = std::make_shared<const learned::DisplacementModel>(
-          learned::DisplacementModel::load(resolvePath(weights, file.dir)));
+      model_ = loadDisplacementNetwork(cfg.section("network"), file.dir, &weights);
       const bool wants_thrust = method_ == "imo";
       const bool has_thrust_input =
           model_->inputKind() == learned::DisplacementInputKind::kThrustGyro;
@@ -134,32 +122,6 @@ class InertialPipeline : public MethodPipeline {
   }
 
  private:
-  void readFilter(const ConfigReader& f) {
-    imo::ImoFilterOptions& o = options_.filter;
-    f.readInRange("gyro_noise_density", &o.gyro_noise_density, 0.0, 10.0);
-    f.readInRange("accel_noise_density", &o.accel_noise_density, 0.0, 100.0);
-    f.readInRange("gyro_random_walk", &o.gyro_random_walk, 0.0, 10.0);
-    f.readInRange("accel_random_walk", &o.accel_random_walk, 0.0, 100.0);
-    double att_deg = o.init_attitude_sigma * 180.0 / M_PI, yaw_deg = o.init_yaw_sigma * 180.0 / M_PI;
-    f.readInRange("init_attitude_sigma_deg", &att_deg, 0.0, 180.0);
-    f.readInRange("init_yaw_sigma_deg", &yaw_deg, 0.0, 180.0);
-    o.init_attitude_sigma = att_deg * M_PI / 180.0;
-    o.init_yaw_sigma = yaw_deg * M_PI / 180.0;
-    f.readInRange("init_velocity_sigma", &o.init_velocity_sigma, 0.0, 100.0);
-    f.readInRange("init_position_sigma", &o.init_position_sigma, 0.0, 1000.0);
-    f.readInRange("init_gyro_bias_sigma", &o.init_gyro_bias_sigma, 0.0, 10.0);
-    f.readInRange("init_accel_bias_sigma", &o.init_accel_bias_sigma, 0.0, 100.0);
-    f.readInRange("mahalanobis_factor", &o.mahalanobis_factor, -1.0, 1e6);
-    init_gyro_bias_ = readVec3(f, "init_gyro_bias", init_gyro_bias_);
-    init_accel_bias_ = readVec3(f, "init_accel_bias", init_accel_bias_);
-    f.readInRange("update_rate_hz", &options_.update_rate_hz, 1.0, 1000.0);
-    options_.measurement_sigma = readVec3(f, "measurement_sigma", options_.measurement_sigma);
-    if (!(options_.measurement_sigma.array() > 0.0).all())
-      throw InputError(file_.path, 0, "filter.measurement_sigma must be positive");
-    f.readOptional("use_source_covariance", &options_.use_source_covariance);
-    f.finish();
-  }
-
   std::vector<ThrustSample> thrustOf(const Sequence& seq) const {
     std::vector<ThrustSample> thrust = thrustSamples(seq);
     if (thrust.empty() && thrust_coefficient_over_mass_ > 0.0)
@@ -172,21 +134,7 @@ class InertialPipeline : public MethodPipeline {
     if (!model_)
       return imo::makeDragModelSource(thrust, drag_model_, model_step_s_, options_.measurement_sigma,
                                       options_.filter.gravity, model_attitude_jacobian_);
-    auto model = model_;
-    const bool use_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
-    const Timestamp w = model->windowDuration();
-    auto covered = [w](const auto& stream, Timestamp t_end) {
-      return !stream.empty() && stream.front().t <= t_end - w && stream.back().t >= t_end;
-    };
-    // The sequence outlives the run; the thrust stream is copied into the source.
-    return [model, &seq, thrust, use_thrust, covered](const imo::DisplacementRequest& r)
-               -> std::optional<imo::DisplacementEstimate> {
-      if (!covered(seq.imu, r.t_end) || (use_thrust && !covered(thrust, r.t_end))) return std::nullopt;
-      const learned::MatrixXf window = learned::makeDisplacementWindow(
-          *model, seq.imu, thrust, r.t_end, r.world_from_body, r.gyro_bias, r.accel_bias);
-      const learned::DisplacementPrediction p = model->predict(window);
-      return imo::DisplacementEstimate{p.displacement, p.covariance};
-    };
+    return makeNetworkDisplacementSource(model_, seq, thrust);
   }
 
   std::string method_;

@@ -2,69 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
-#include <deque>
 #include <optional>
 #include <stdexcept>
 
+#include "hdvio/backend/imo/imo_run_support.h"
+
 namespace hdvio::imo {
 namespace {
-
-double threadSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-ImoNominalState nominalFrom(const NavState& s) {
-  ImoNominalState x;
-  x.t = s.t;
-  x.R = s.T_WB.R();
-  x.p = s.T_WB.p;
-  x.v = s.v_W;
-  x.bg = s.bias.head<3>();
-  x.ba = s.bias.tail<3>();
-  return x;
-}
-
-NavState navFrom(const ImoNominalState& x) {
-  NavState s;
-  s.t = x.t;
-  s.T_WB = Pose(x.R, x.p);
-  s.v_W = x.v;
-  s.bias << x.bg, x.ba;
-  return s;
-}
-
-ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, Timestamp t) {
-  const double s = secondsBetween(a.t, t) / secondsBetween(a.t, b.t);
-  return {t, (1.0 - s) * a.gyro + s * b.gyro, (1.0 - s) * a.accel + s * b.accel};
-}
-
-// Gyro-integrated rotation since the start, for the displacement windows (as in imo_runner.cc).
-class RotationHistory {
- public:
-  void add(Timestamp t, const Quat& q) {
-    if (!entries_.empty() && entries_.back().first == t) entries_.back().second = q;
-    else entries_.emplace_back(t, q);
-  }
-  Quat at(Timestamp t) const {
-    if (t <= entries_.front().first) return entries_.front().second;
-    if (t >= entries_.back().first) return entries_.back().second;
-    auto hi = std::lower_bound(entries_.begin(), entries_.end(), t,
-                               [](const auto& e, Timestamp tt) { return e.first < tt; });
-    if (hi->first == t) return hi->second;
-    const auto lo = std::prev(hi);
-    const double a = secondsBetween(lo->first, t) / secondsBetween(lo->first, hi->first);
-    return lo->second.slerp(a, hi->second);
-  }
-  void dropBefore(Timestamp t) {
-    while (entries_.size() > 1 && entries_[1].first <= t) entries_.pop_front();
-  }
-
- private:
-  std::deque<std::pair<Timestamp, Quat>> entries_;
-};
 
 // Keeps the corners whose own 2-dof innovation r_i' S_i^-1 r_i is below the threshold.
 GateFrameMeasurement dropOutlierCorners(const GateFrameMeasurement& m, const MatX& P, double pixel_var,
@@ -126,7 +70,7 @@ GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
                                    [](Timestamp t, const GateFrame& f) { return t < f.t; });
 
   auto step = [&](const ImuSample& from, const ImuSample& to) {
-    const double t0 = threadSeconds();
+    const double t0 = threadCpuSeconds();
     const Vec3 gyro = 0.5 * (from.gyro + to.gyro);
     const Vec3 accel = 0.5 * (from.accel + to.accel);
     if (fuse) {
@@ -134,7 +78,7 @@ GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
       history.add(to.t, gamma);
     }
     filter.propagate(gyro, accel, to.t);
-    out.propagation_s += threadSeconds() - t0;
+    out.propagation_s += threadCpuSeconds() - t0;
   };
 
   // 2-dof chi-square quantile in closed form: P(chi2_2 > q) = exp(-q / 2).
@@ -143,7 +87,7 @@ GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
   const double pixel_var = options.pixel_sigma * options.pixel_sigma;
 
   auto gate_update = [&](const GateFrame& frame) {
-    const double t0 = threadSeconds();
+    const double t0 = threadCpuSeconds();
     const int dim = kStateDim + kCloneDim * static_cast<int>(filter.clones().size());
     GateFrameMeasurement m = gateFrameMeasurement(camera, T_BC, filter.state(), frame.corners, dim);
     if (corner_threshold > 0.0 && !m.used.empty()) m = dropOutlierCorners(m, filter.covariance(), pixel_var,
@@ -159,17 +103,17 @@ GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
         ++out.frames_rejected;
       }
     }
-    out.gate_update_s += threadSeconds() - t0;
+    out.gate_update_s += threadCpuSeconds() - t0;
   };
 
   auto displacement_update = [&](Timestamp t_end) {
-    double t0 = threadSeconds();
+    double t0 = threadCpuSeconds();
     filter.addClone();
     const Timestamp t_begin = t_end - window;
     const int i = filter.findClone(t_begin);
     if (i < 0) {
       while (filter.clones().size() > window_clones + 1) filter.marginalizeClone(0);
-      out.displacement_update_s += threadSeconds() - t0;
+      out.displacement_update_s += threadCpuSeconds() - t0;
       return;
     }
     DisplacementRequest request;
@@ -180,11 +124,11 @@ GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
     request.gyro_bias = filter.state().bg;
     request.accel_bias = filter.state().ba;
     request.velocity_begin = filter.clones()[i].v;
-    out.displacement_update_s += threadSeconds() - t0;
-    t0 = threadSeconds();
+    out.displacement_update_s += threadCpuSeconds() - t0;
+    t0 = threadCpuSeconds();
     const std::optional<DisplacementEstimate> est = source(request);
-    out.source_s += threadSeconds() - t0;
-    t0 = threadSeconds();
+    out.source_s += threadCpuSeconds() - t0;
+    t0 = threadCpuSeconds();
     if (!est) {
       ++out.no_displacement;
     } else {
@@ -201,7 +145,7 @@ GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
     }
     while (!filter.clones().empty() && filter.clones().front().t <= t_begin) filter.marginalizeClone(0);
     history.dropBefore(filter.clones().front().t);
-    out.displacement_update_s += threadSeconds() - t0;
+    out.displacement_update_s += threadCpuSeconds() - t0;
   };
 
   // Each IMU interval is split at the frame and grid times inside it; a frame and a grid time

@@ -1,58 +1,22 @@
 #include "hdvio/backend/imo/imo_runner.h"
 
 #include <algorithm>
-#include <ctime>
 #include <cmath>
 #include <deque>
 #include <stdexcept>
 
+#include "hdvio/backend/imo/imo_run_support.h"
+
 namespace hdvio::imo {
 namespace {
 
-// Stage times are this thread's CPU time: the cost on one core, independent of machine load.
-// Reading it is a system call (~1.4 us on the benchmark VM, more than an IMU step), so the
-// clock is read around whole runs and around each update, never per IMU step: the propagation
-// time is the run's total minus the time spent at the grid points.
+// Stage times are this thread's CPU time (the cost on one core, independent of machine load),
+// read around whole runs and around each update: propagation = total - time at the grid points.
 struct Clock {
   using time_point = double;
-  static double now() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-  }
+  static double now() { return threadCpuSeconds(); }
 };
 double secondsSince(double t0) { return Clock::now() - t0; }
-
-// Rotations at the times the filter passed through, for the network windows; slerp between.
-class RotationHistory {
- public:
-  void add(Timestamp t, const Quat& q) {
-    if (!entries_.empty() && entries_.back().first == t) entries_.back().second = q;
-    else entries_.emplace_back(t, q);
-  }
-  Quat at(Timestamp t) const {
-    if (t <= entries_.front().first) return entries_.front().second;
-    if (t >= entries_.back().first) return entries_.back().second;
-    auto hi = std::lower_bound(entries_.begin(), entries_.end(), t,
-                               [](const auto& e, Timestamp tt) { return e.first < tt; });
-    if (hi->first == t) return hi->second;
-    const auto lo = std::prev(hi);
-    const double a = secondsBetween(lo->first, t) / secondsBetween(lo->first, hi->first);
-    return lo->second.slerp(a, hi->second);
-  }
-  // Keeps the last entry at or before t (and everything after).
-  void dropBefore(Timestamp t) {
-    while (entries_.size() > 1 && entries_[1].first <= t) entries_.pop_front();
-  }
-
- private:
-  std::deque<std::pair<Timestamp, Quat>> entries_;
-};
-
-ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, Timestamp t) {
-  const double s = secondsBetween(a.t, t) / secondsBetween(a.t, b.t);
-  return {t, (1.0 - s) * a.gyro + s * b.gyro, (1.0 - s) * a.accel + s * b.accel};
-}
 
 std::size_t startIndex(const std::vector<ImuSample>& imu, Timestamp t0) {
   auto it = std::lower_bound(imu.begin(), imu.end(), t0,
@@ -60,26 +24,6 @@ std::size_t startIndex(const std::vector<ImuSample>& imu, Timestamp t0) {
   if (it == imu.end() || it->t != t0)
     throw std::invalid_argument("IMO run: the initial time is not an IMU sample time");
   return static_cast<std::size_t>(it - imu.begin());
-}
-
-ImoNominalState nominalFrom(const NavState& s) {
-  ImoNominalState x;
-  x.t = s.t;
-  x.R = s.T_WB.R();
-  x.p = s.T_WB.p;
-  x.v = s.v_W;
-  x.bg = s.bias.head<3>();
-  x.ba = s.bias.tail<3>();
-  return x;
-}
-
-NavState navFrom(const ImoNominalState& x) {
-  NavState s;
-  s.t = x.t;
-  s.T_WB = Pose(x.R, x.p);
-  s.v_W = x.v;
-  s.bias << x.bg, x.ba;
-  return s;
 }
 
 // Walks consecutive IMU samples, splitting each interval at the grid times (start + k period);

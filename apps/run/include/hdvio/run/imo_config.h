@@ -1,0 +1,43 @@
+#pragma once
+// What the inertial pipelines (imo/tlio/model_ekf/net_only and gate_io) read and build alike:
+// the IMO filter's `filter:` section, the displacement network of a `network:` section, and the
+// network's displacement source over a sequence (docs/imo.md, docs/gate_io.md).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hdvio/backend/imo/displacement_source.h"
+#include "hdvio/backend/imo/imo_runner.h"
+#include "hdvio/core/config.h"
+#include "hdvio/core/sequence.h"
+#include "hdvio/learned/displacement_model.h"
+
+namespace hdvio::run {
+
+struct ImoFilterSection {
+  imo::ImoRunOptions* options = nullptr;  // filter noise, initial sigmas, rate, measurement sigma
+  Vec3 init_gyro_bias = Vec3::Zero();
+  Vec3 init_accel_bias = Vec3::Zero();
+};
+
+// Reads `filter:` into *section (defaults = what it holds) and calls f.finish(). InputError
+// (naming config_path) for a non-positive measurement sigma.
+void readImoFilterSection(const ConfigReader& f, const std::string& config_path,
+                          ImoFilterSection* section);
+
+// A 3-vector key, `fallback` when absent.
+Vec3 readVec3(const ConfigReader& r, const std::string& key, const Vec3& fallback);
+
+// Loads `network: {weights: <file>}`, the path relative to the experiment file's folder;
+// *weights (optional) receives the path as written.
+std::shared_ptr<const learned::DisplacementModel> loadDisplacementNetwork(
+    const ConfigReader& network, const std::string& experiment_dir, std::string* weights = nullptr);
+
+// The network's displacement over each requested window, rotated with the filter's orientation
+// (learned::makeDisplacementWindow); no estimate where the IMU (or, for a thrust network, the
+// thrust) does not cover the window. The sequence must outlive the source; thrust is copied.
+imo::DisplacementSource makeNetworkDisplacementSource(
+    std::shared_ptr<const learned::DisplacementModel> model, const Sequence& seq,
+    std::vector<ThrustSample> thrust);
+
+}  // namespace hdvio::run

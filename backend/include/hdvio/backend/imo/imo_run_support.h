@@ -1,0 +1,36 @@
+#pragma once
+// What the IMU-driven runners (imo_runner: imo/tlio/model_ekf/net_only, gate_io_runner) share:
+// conversions between the filter's nominal state and NavState, IMU interpolation at split
+// times, the gyro-integrated rotation history for network windows, and the thread CPU clock.
+#include <deque>
+#include <utility>
+
+#include "hdvio/backend/imo/imo_propagation.h"
+#include "hdvio/backend/nav_state.h"
+#include "hdvio/core/sequence.h"
+
+namespace hdvio::imo {
+
+ImoNominalState nominalFrom(const NavState& s);
+NavState navFrom(const ImoNominalState& x);
+
+// Linear interpolation of gyro and accel between two samples at a ≤ t ≤ b.
+ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, Timestamp t);
+
+// This thread's CPU time, s. Reading it is a system call (~1.4 us on the benchmark VM, more than
+// an IMU step), so callers read it around whole runs and updates, never per IMU step.
+double threadCpuSeconds();
+
+// Rotations at the times the filter passed through, for the network windows; slerp between.
+class RotationHistory {
+ public:
+  void add(Timestamp t, const Quat& q);
+  Quat at(Timestamp t) const;  // clamped to the first / last entry outside the span
+  // Keeps the last entry at or before t (and everything after).
+  void dropBefore(Timestamp t);
+
+ private:
+  std::deque<std::pair<Timestamp, Quat>> entries_;
+};
+
+}  // namespace hdvio::imo
