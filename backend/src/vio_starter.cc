@@ -2,7 +2,6 @@
 
 #include "hdvio/core/error.h"
 
-
 namespace hdvio {
 
 std::string toString(StartKind kind) {
