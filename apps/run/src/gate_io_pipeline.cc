@@ -76,16 +76,7 @@ class GateIoPipeline : public MethodPipeline {
     if (model_ && model_->inputKind() == learned::DisplacementInputKind::kThrustGyro && thrust.empty())
       throw InputError(seq.source, 0, "the thrust_gyro network needs collective thrust; the sequence has none");
 
-    const Timestamp t_gt = seq.groundtruth.front().t + fromSeconds(start_offset_s_);
-    auto first = std::lower_bound(seq.imu.begin(), seq.imu.end(), t_gt,
-                                  [](const ImuSample& s, Timestamp t) { return s.t < t; });
-    if (first == seq.imu.end() || first->t > seq.groundtruth.back().t)
-      throw InputError(seq.source, 0, "no IMU sample inside the ground-truth span");
-    auto last = seq.imu.end();
-    if (duration_s_ > 0.0)
-      last = std::upper_bound(first, seq.imu.end(), first->t + fromSeconds(duration_s_),
-                              [](Timestamp t, const ImuSample& s) { return t < s.t; });
-    const std::vector<ImuSample> imu(first, last);
+    const std::vector<ImuSample> imu = imuSpanWithGroundTruth(seq, start_offset_s_, duration_s_);
     NavState init = groundTruthState(seq, imu.front().t);
     init.bias << init_gyro_bias_, init_accel_bias_;
 

@@ -1,5 +1,6 @@
 #include "hdvio/run/imo_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -73,6 +74,21 @@ imo::DisplacementSource makeNetworkDisplacementSource(
     e.covariance = p.covariance;
     return e;
   };
+}
+
+std::vector<ImuSample> imuSpanWithGroundTruth(const Sequence& seq, double start_offset_s,
+                                              double duration_s) {
+  if (seq.groundtruth.empty()) throw InputError(seq.source, 0, "the sequence has no ground truth");
+  const Timestamp t_gt = seq.groundtruth.front().t + fromSeconds(start_offset_s);
+  auto first = std::lower_bound(seq.imu.begin(), seq.imu.end(), t_gt,
+                                [](const ImuSample& s, Timestamp t) { return s.t < t; });
+  if (first == seq.imu.end() || first->t > seq.groundtruth.back().t)
+    throw InputError(seq.source, 0, "no IMU sample inside the ground-truth span");
+  auto last = seq.imu.end();
+  if (duration_s > 0.0)
+    last = std::upper_bound(first, seq.imu.end(), first->t + fromSeconds(duration_s),
+                            [](Timestamp t, const ImuSample& s) { return t < s.t; });
+  return std::vector<ImuSample>(first, last);
 }
 
 }  // namespace hdvio::run

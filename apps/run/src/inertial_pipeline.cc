@@ -85,18 +85,7 @@ class InertialPipeline : public MethodPipeline {
                            "sequence has none");
 
     // Start at the first IMU sample with ground truth (+ offset); optionally a limited span.
-    const Timestamp t_gt = seq.groundtruth.front().t + fromSeconds(start_offset_s_);
-    auto first = std::lower_bound(seq.imu.begin(), seq.imu.end(), t_gt,
-                                  [](const ImuSample& s, Timestamp t) { return s.t < t; });
-    if (first == seq.imu.end() || first->t > seq.groundtruth.back().t)
-      throw InputError(seq.source, 0, "no IMU sample inside the ground-truth span");
-    auto last = seq.imu.end();
-    if (duration_s_ > 0.0) {
-      const Timestamp t_stop = first->t + fromSeconds(duration_s_);
-      last = std::upper_bound(first, seq.imu.end(), t_stop,
-                              [](Timestamp t, const ImuSample& s) { return t < s.t; });
-    }
-    const std::vector<ImuSample> imu(first, last);
+    const std::vector<ImuSample> imu = imuSpanWithGroundTruth(seq, start_offset_s_, duration_s_);
     NavState init = groundTruthState(seq, imu.front().t);
     if (!seq.groundtruth.front().has_velocity)
       throw InputError(seq.source, 0, "method " + method_ + " needs ground-truth velocity to start");

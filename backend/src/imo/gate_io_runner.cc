@@ -116,14 +116,7 @@ GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
       out.displacement_update_s += threadCpuSeconds() - t0;
       return;
     }
-    DisplacementRequest request;
-    request.t_begin = t_begin;
-    request.t_end = t_end;
-    const Quat anchor = Quat(filter.clones()[i].R) * history.at(t_begin).conjugate();
-    request.world_from_body = [&history, anchor](Timestamp t) { return anchor * history.at(t); };
-    request.gyro_bias = filter.state().bg;
-    request.accel_bias = filter.state().ba;
-    request.velocity_begin = filter.clones()[i].v;
+    const DisplacementRequest request = windowRequest(filter, history, i, t_begin, t_end);
     out.displacement_update_s += threadCpuSeconds() - t0;
     t0 = threadCpuSeconds();
     const std::optional<DisplacementEstimate> est = source(request);
@@ -132,14 +125,9 @@ GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
     if (!est) {
       ++out.no_displacement;
     } else {
-      RelativePositionMeasurement rm;
-      rm.clone_i = i;
-      rm.clone_j = static_cast<int>(filter.clones().size()) - 1;
-      rm.z = est->z;
-      rm.covariance = options.imo.use_source_covariance ? est->covariance : fixed_cov;
-      rm.velocity_coefficient = est->velocity_coefficient;
-      rm.velocity_matrix = est->velocity_matrix;
-      rm.attitude_jacobian = est->attitude_jacobian;
+      const RelativePositionMeasurement rm = displacementMeasurement(
+          *est, i, static_cast<int>(filter.clones().size()) - 1,
+          options.imo.use_source_covariance ? est->covariance : fixed_cov);
       if (filter.update(rm) == UpdateOutcome::kApplied) ++out.displacement_updates;
       else ++out.displacement_rejected;
     }

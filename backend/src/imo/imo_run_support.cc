@@ -57,4 +57,31 @@ void RotationHistory::dropBefore(Timestamp t) {
   while (entries_.size() > 1 && entries_[1].first <= t) entries_.pop_front();
 }
 
+DisplacementRequest windowRequest(const ImoFilter& filter, const RotationHistory& history,
+                                  int clone_i, Timestamp t_begin, Timestamp t_end) {
+  const ImoClone& begin = filter.clones().at(static_cast<std::size_t>(clone_i));
+  DisplacementRequest request;
+  request.t_begin = t_begin;
+  request.t_end = t_end;
+  const Quat anchor = Quat(begin.R) * history.at(t_begin).conjugate();
+  request.world_from_body = [&history, anchor](Timestamp t) { return anchor * history.at(t); };
+  request.gyro_bias = filter.state().bg;
+  request.accel_bias = filter.state().ba;
+  request.velocity_begin = begin.v;
+  return request;
+}
+
+RelativePositionMeasurement displacementMeasurement(const DisplacementEstimate& est, int clone_i,
+                                                    int clone_j, const Mat3& covariance) {
+  RelativePositionMeasurement m;
+  m.clone_i = clone_i;
+  m.clone_j = clone_j;
+  m.z = est.z;
+  m.covariance = covariance;
+  m.velocity_coefficient = est.velocity_coefficient;
+  m.velocity_matrix = est.velocity_matrix;
+  m.attitude_jacobian = est.attitude_jacobian;
+  return m;
+}
+
 }  // namespace hdvio::imo

@@ -104,28 +104,15 @@ ImoRunOutput runImoFilter(const std::vector<ImuSample>& imu, const NavState& ini
       return;
     }
     const int j = static_cast<int>(filter.clones().size()) - 1;
-    DisplacementRequest request;
-    request.t_begin = t_begin;
-    request.t_end = t_end;
-    const Quat anchor = Quat(filter.clones()[i].R) * history.at(t_begin).conjugate();
-    request.world_from_body = [&history, anchor](Timestamp t) { return anchor * history.at(t); };
-    request.gyro_bias = filter.state().bg;
-    request.accel_bias = filter.state().ba;
-    request.velocity_begin = filter.clones()[i].v;
     const double t_source = Clock::now();
-    const std::optional<DisplacementEstimate> est = source(request);
+    const std::optional<DisplacementEstimate> est =
+        source(windowRequest(filter, history, i, t_begin, t_end));
     out.source_s += secondsSince(t_source);
     if (!est) {
       ++out.no_measurement;
     } else {
-      RelativePositionMeasurement m;
-      m.clone_i = i;
-      m.clone_j = j;
-      m.z = est->z;
-      m.covariance = options.use_source_covariance ? est->covariance : fixed_cov;
-      m.velocity_coefficient = est->velocity_coefficient;
-      m.velocity_matrix = est->velocity_matrix;
-      m.attitude_jacobian = est->attitude_jacobian;
+      const RelativePositionMeasurement m = displacementMeasurement(
+          *est, i, j, options.use_source_covariance ? est->covariance : fixed_cov);
       if (filter.update(m) == UpdateOutcome::kApplied) ++out.updates;
       else ++out.rejected;
     }

@@ -40,4 +40,9 @@ imo::DisplacementSource makeNetworkDisplacementSource(
     std::shared_ptr<const learned::DisplacementModel> model, const Sequence& seq,
     std::vector<ThrustSample> thrust);
 
+// The IMU samples the inertial methods run on: from the first sample inside the ground truth
+// (+ start_offset_s), for duration_s (<= 0: to the end). InputError when no sample is inside.
+std::vector<ImuSample> imuSpanWithGroundTruth(const Sequence& seq, double start_offset_s,
+                                              double duration_s);
+
 }  // namespace hdvio::run

@@ -5,6 +5,8 @@
 #include <deque>
 #include <utility>
 
+#include "hdvio/backend/imo/displacement_source.h"
+#include "hdvio/backend/imo/imo_filter.h"
 #include "hdvio/backend/imo/imo_propagation.h"
 #include "hdvio/backend/nav_state.h"
 #include "hdvio/core/sequence.h"
@@ -32,5 +34,15 @@ class RotationHistory {
  private:
   std::deque<std::pair<Timestamp, Quat>> entries_;
 };
+
+// The displacement request for the window [t_begin, t_end] that starts at clone i: orientation
+// = clone i's rotation times the gyro integration since it (no jumps from updates inside the
+// window), the filter's biases and clone i's velocity. `history` must outlive the request.
+DisplacementRequest windowRequest(const ImoFilter& filter, const RotationHistory& history,
+                                  int clone_i, Timestamp t_begin, Timestamp t_end);
+
+// The relative-position measurement of an estimate between clones i and j.
+RelativePositionMeasurement displacementMeasurement(const DisplacementEstimate& est, int clone_i,
+                                                    int clone_j, const Mat3& covariance);
 
 }  // namespace hdvio::imo
