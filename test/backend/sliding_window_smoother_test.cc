@@ -133,5 +133,39 @@ TEST(SlidingWindowSmoother, LagRuleAndBookkeeping) {
                std::logic_error);
 }
 
+// With the warm start, well-posed solves grow the Levenberg-Marquardt radius from the initial
+// value up to the cap, and it stays within [min, max]; without it nothing is carried.
+TEST(SlidingWindowSmoother, WarmStartCarriesTheTrustRegionWithinItsBounds) {
+  std::mt19937 rng(23);
+  const Problem p = makeProblem(15, rng);
+  for (const bool warm : {true, false}) {
+    SmootherOptions so;
+    so.optimizer.max_iterations = 20;
+    so.optimizer.initial_trust_region_radius = 1e2;
+    if (warm) {
+      so.warm_start_min_radius = 1e2;
+      so.warm_start_max_radius = 1e6;
+    }
+    SlidingWindowSmoother smoother(so);
+    double largest = 0.0;
+    for (int k = 0; k < 15; ++k) {
+      Values v;
+      v.insertPose(X(k), p.initial[k]);
+      ASSERT_TRUE(smoother.update(p.factors_at[k], v).usable);
+      const double r = smoother.trustRegionRadius();
+      if (warm) {
+        EXPECT_GE(r, 1e2) << k;
+        EXPECT_LE(r, 1e6) << k;
+      } else {
+        EXPECT_EQ(r, 0.0) << k;
+      }
+      largest = std::max(largest, r);
+    }
+    // Each solve starts where the last ended, so the growth accumulates up to the cap (a solve
+    // from 1e2 alone ends near 1e3-1e4).
+    if (warm) EXPECT_EQ(largest, 1e6);
+  }
+}
+
 }  // namespace
 }  // namespace hdvio

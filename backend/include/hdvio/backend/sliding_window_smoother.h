@@ -62,6 +62,8 @@ class SlidingWindowSmoother {
   const std::map<Key, Timestamp>& keyTimestamps() const { return key_times_; }
   void setConstant(const std::set<Key>& keys) { options_.optimizer.constant_keys = keys; }
   const SmootherOptions& options() const { return options_; }
+  // Where the last solve's trust region ended (warm start; 0 before a solve or without it).
+  double trustRegionRadius() const { return trust_region_radius_; }
 
  private:
   SmootherOptions options_;
