@@ -193,6 +193,57 @@ TEST(ImoCovariance, JosephUpdatesKeepCovarianceSymmetricPositiveDefinite) {
   }
 }
 
+// The O(n^2) update against the Joseph form written out densely with H and K, for
+// measurements with and without the velocity and attitude terms.
+TEST(ImoUpdate, ExpandedUpdateEqualsDenseJosephForm) {
+  Mat3 attitude;
+  attitude << 0.0, -0.02, 0.01, 0.02, 0.0, -0.03, -0.01, 0.03, 0.0;
+  for (int variant = 0; variant < 3; ++variant) {
+    ImoFilter filter = filterWithClones(11);
+    RelativePositionMeasurement m;
+    m.clone_i = 2;
+    m.clone_j = 10;
+    m.z = filter.predictMeasurement(m) + Vec3(0.03, -0.02, 0.01);
+    m.covariance = Vec3(1e-4, 2e-4, 3e-4).asDiagonal();
+    if (variant >= 1) m.velocity_coefficient = 0.5;
+    if (variant == 2) m.attitude_jacobian = attitude;
+    const Eigen::MatrixXd P = filter.covariance();
+    const Eigen::MatrixXd H = filter.measurementJacobian(m);
+    const Eigen::MatrixXd K = P * H.transpose() * (H * P * H.transpose() + m.covariance).inverse();
+    const Eigen::MatrixXd IKH = Eigen::MatrixXd::Identity(P.rows(), P.cols()) - K * H;
+    const Eigen::MatrixXd expected = IKH * P * IKH.transpose() + K * m.covariance * K.transpose();
+    ASSERT_EQ(filter.update(m), UpdateOutcome::kApplied);
+    EXPECT_LT((filter.covariance() - expected).norm(), 1e-12 * expected.norm()) << "variant " << variant;
+    EXPECT_EQ(filter.covariance(), filter.covariance().transpose());  // symmetric exactly
+  }
+}
+
+// Cloning and marginalization work in place in a storage that grows: their covariance must be
+// the bordered / reduced matrix, also past the initial capacity and for a middle clone.
+TEST(ImoCovariance, InPlaceCloningAndMarginalizationMatchTheirDefinitions) {
+  ImoFilter filter = filterWithClones(12);
+  const auto imu = simulateImu(100.0, 2.0);
+  for (int round = 0; round < 12; ++round) {  // 24 clones: beyond the initial storage
+    for (int s = 0; s < 5; ++s)
+      filter.propagate(imu[5 * round + s].gyro, imu[5 * round + s].accel, filter.state().t + fromSeconds(0.01));
+    const Eigen::MatrixXd P = filter.covariance();
+    const int n = static_cast<int>(P.rows());
+    filter.addClone();
+    Eigen::MatrixXd bordered(n + 9, n + 9);
+    bordered << P, P.leftCols(9), P.topRows(9), P.topLeftCorner(9, 9);
+    ASSERT_EQ(filter.covariance(), bordered) << "round " << round;
+  }
+  for (const int k : {0, 7, 21}) {  // first, middle, last (24, 23, 22 clones)
+    const Eigen::MatrixXd P = filter.covariance();
+    const int n = static_cast<int>(P.rows()), o = 15 + 9 * k;
+    std::vector<int> keep;
+    for (int i = 0; i < n; ++i)
+      if (i < o || i >= o + 9) keep.push_back(i);
+    filter.marginalizeClone(k);
+    EXPECT_EQ(filter.covariance(), P(keep, keep)) << "clone " << k;
+  }
+}
+
 TEST(ImoUpdate, GateRejectsOutliersOnlyWhenEnabled) {
   for (const double factor : {-1.0, 1.0}) {
     ImoFilterOptions o;

@@ -1,5 +1,7 @@
 #include "hdvio/backend/imo/imo_filter.h"
 
+#include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
 namespace hdvio::imo {
@@ -7,6 +9,7 @@ namespace {
 
 constexpr int kTheta = 0, kVel = 3, kPos = 6, kBg = 9, kBa = 12;
 constexpr double kChi2Threshold3Dof = 11.345;  // 99 % quantile, 3 dof
+constexpr int kInitialCapacity = kStateDim + 16 * kCloneDim;  // a 0.5 s window at 20 Hz and more
 
 int cloneOffset(int k) { return kStateDim + kCloneDim * k; }
 
@@ -26,7 +29,7 @@ ImoFilter::ImoFilter(const ImoFilterOptions& options) : options_(options) {}
 void ImoFilter::initialize(const ImoNominalState& x0) {
   x_ = x0;
   clones_.clear();
-  P_ = MatX::Zero(kStateDim, kStateDim);
+  P_ = MatX::Zero(kInitialCapacity, kInitialCapacity);
   const auto& o = options_;
   P_.diagonal().segment<3>(kTheta) << o.init_attitude_sigma * o.init_attitude_sigma,
       o.init_attitude_sigma * o.init_attitude_sigma, o.init_yaw_sigma * o.init_yaw_sigma;
@@ -59,33 +62,40 @@ void ImoFilter::propagate(const Vec3& gyro, const Vec3& accel, Timestamp t_next)
 void ImoFilter::syncCrossCovariance() {
   const int nc = dim() - kStateDim;
   if (nc > 0 && !phi_.isIdentity(0.0)) {
-    const MatX cross = phi_ * P_.topRightCorner(kStateDim, nc);
-    P_.topRightCorner(kStateDim, nc) = cross;
-    P_.bottomLeftCorner(nc, kStateDim) = cross.transpose();
+    const MatX cross = phi_ * P_.block(0, kStateDim, kStateDim, nc);
+    P_.block(0, kStateDim, kStateDim, nc) = cross;
+    P_.block(kStateDim, 0, nc, kStateDim) = cross.transpose();
   }
   phi_.setIdentity();
 }
 
 MatX ImoFilter::covariance() const {
-  MatX P = P_;
+  MatX P = cov();
   const int nc = dim() - kStateDim;
   if (nc > 0) {
-    const MatX cross = phi_ * P_.topRightCorner(kStateDim, nc);
+    const MatX cross = phi_ * P.topRightCorner(kStateDim, nc);
     P.topRightCorner(kStateDim, nc) = cross;
     P.bottomLeftCorner(nc, kStateDim) = cross.transpose();
   }
   return P;
 }
 
+void ImoFilter::reserve(int n) {
+  if (P_.rows() >= n) return;
+  const int capacity = std::max(n, 2 * static_cast<int>(P_.rows()));
+  MatX P = MatX::Zero(capacity, capacity);
+  P.topLeftCorner(dim(), dim()) = cov();
+  P_ = std::move(P);
+}
+
 void ImoFilter::addClone() {
   syncCrossCovariance();
   const int n = dim();
-  MatX P(n + kCloneDim, n + kCloneDim);
-  P.topLeftCorner(n, n) = P_;
-  P.block(n, 0, kCloneDim, n) = P_.topRows(kCloneDim);  // clone = first 9 evolving rows
-  P.block(0, n, n, kCloneDim) = P_.leftCols(kCloneDim);
-  P.block(n, n, kCloneDim, kCloneDim) = P_.topLeftCorner(kCloneDim, kCloneDim);
-  P_ = std::move(P);
+  reserve(n + kCloneDim);
+  // The clone is the first 9 evolving rows; source and destination blocks are disjoint (n > 9).
+  P_.block(n, 0, kCloneDim, n) = P_.block(0, 0, kCloneDim, n);
+  P_.block(0, n, n, kCloneDim) = P_.block(0, 0, n, kCloneDim);
+  P_.block(n, n, kCloneDim, kCloneDim) = P_.block(0, 0, kCloneDim, kCloneDim);
   clones_.push_back({x_.t, x_.R, x_.v, x_.p});
 }
 
@@ -96,12 +106,16 @@ void ImoFilter::marginalizeClone(int k) {
   const int n = dim();
   const int o = cloneOffset(k);
   const int tail = n - o - kCloneDim;
-  MatX P(n - kCloneDim, n - kCloneDim);
-  P.topLeftCorner(o, o) = P_.topLeftCorner(o, o);
-  P.topRightCorner(o, tail) = P_.topRightCorner(o, tail);
-  P.bottomLeftCorner(tail, o) = P_.bottomLeftCorner(tail, o);
-  P.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
-  P_ = std::move(P);
+  // In place, column by column in increasing order: column c of the result is column c (c < o)
+  // or c + 9 of the storage, which has not been overwritten yet; rows o + 9.. move up by 9.
+  const long stride = P_.rows();
+  double* data = P_.data();
+  for (int c = 0; c < n - kCloneDim; ++c) {
+    double* dst = data + c * stride;
+    const double* src = data + (c < o ? c : c + kCloneDim) * stride;
+    if (src != dst) std::memcpy(dst, src, sizeof(double) * static_cast<std::size_t>(o));
+    std::memmove(dst + o, src + o + kCloneDim, sizeof(double) * static_cast<std::size_t>(tail));
+  }
   clones_.erase(clones_.begin() + k);
 }
 
@@ -138,9 +152,11 @@ UpdateOutcome ImoFilter::update(const RelativePositionMeasurement& m) {
   const Mat3 C = m.velocity_coefficient * Mat3::Identity() + m.velocity_matrix;
   const Mat3& J = m.attitude_jacobian;
   const bool has_c = !C.isZero(0.0), has_j = !J.isZero(0.0);
-  MatX PHt = P_.middleCols<3>(oj + kPos) - P_.middleCols<3>(oi + kPos);
-  if (has_c) PHt.noalias() -= P_.middleCols<3>(oi + kVel) * C.transpose();
-  if (has_j) PHt.noalias() -= P_.middleCols<3>(oi + kTheta) * J.transpose();
+  const int n = dim();
+  const auto P = cov();
+  Eigen::Matrix<double, Eigen::Dynamic, 3> PHt = P.middleCols<3>(oj + kPos) - P.middleCols<3>(oi + kPos);
+  if (has_c) PHt.noalias() -= P.middleCols<3>(oi + kVel) * C.transpose();
+  if (has_j) PHt.noalias() -= P.middleCols<3>(oi + kTheta) * J.transpose();
   Mat3 HPHt = PHt.middleRows<3>(oj + kPos) - PHt.middleRows<3>(oi + kPos);
   if (has_c) HPHt -= C * PHt.middleRows<3>(oi + kVel);
   if (has_j) HPHt -= J * PHt.middleRows<3>(oi + kTheta);
@@ -153,14 +169,22 @@ UpdateOutcome ImoFilter::update(const RelativePositionMeasurement& m) {
       last_chi2_ > options_.mahalanobis_factor * kChi2Threshold3Dof)
     return UpdateOutcome::kRejectedByGate;
 
-  const MatX K = S_ldlt.solve(PHt.transpose()).transpose();  // n x 3
+  const Eigen::Matrix<double, Eigen::Dynamic, 3> K = S_ldlt.solve(PHt.transpose()).transpose();
   // Joseph form (I - KH) P (I - KH)' + K R K', expanded with P H' so it costs O(n^2):
-  // P - K H P - P H' K' + K S K' = P - X - X' with X = K (P H')' - K S K' / 2, which is
-  // symmetric by construction. Rank-3 products: coefficient-wise beats the blocked GEMM here.
-  const MatX KS = K * S;
-  MatX X = K.lazyProduct(PHt.transpose());
-  X.noalias() -= 0.5 * KS.lazyProduct(K.transpose());
-  P_ -= X + X.transpose();
+  // P - K H P - P H' K' + K S K' = P - (K U' + U K') with U = P H' - K S / 2. The lower
+  // triangle is updated column by column (six axpys each) and mirrored, so the result is
+  // symmetric by construction and nothing n x n is allocated.
+  const Eigen::Matrix<double, Eigen::Dynamic, 3> U = PHt - 0.5 * K * S;
+  double* data = P_.data();
+  const long stride = P_.rows();
+  for (int c = 0; c < n; ++c) {
+    const int len = n - c;
+    Eigen::Map<VecX> col(data + c * stride + c, len);
+    col -= U(c, 0) * K.col(0).tail(len) + U(c, 1) * K.col(1).tail(len) + U(c, 2) * K.col(2).tail(len) +
+           K(c, 0) * U.col(0).tail(len) + K(c, 1) * U.col(1).tail(len) + K(c, 2) * U.col(2).tail(len);
+  }
+  for (int c = 1; c < n; ++c)
+    for (int row = 0; row < c; ++row) data[c * stride + row] = data[row * stride + c];  // upper = lower
   inject(K * r);
   return UpdateOutcome::kApplied;
 }

@@ -36,7 +36,7 @@ UpdateOutcome ImoFilter::updateGeneric(const VecX& r, const MatX& H, const MatX&
     throw std::logic_error("ImoFilter::updateGeneric: inconsistent sizes");
   if (gate_probability >= 1.0) throw std::logic_error("ImoFilter::updateGeneric: gate probability must be < 1");
   syncCrossCovariance();
-  const MatX PHt = P_ * H.transpose();  // n x m
+  const MatX PHt = cov() * H.transpose();  // n x m
   MatX S = H * PHt + R;
   S = 0.5 * (S + S.transpose());
   const Eigen::LDLT<MatX> S_ldlt(S);
@@ -48,8 +48,8 @@ UpdateOutcome ImoFilter::updateGeneric(const VecX& r, const MatX& H, const MatX&
   // positive semi-definite in floating point even when P is large after a long gap without
   // updates. O(n^3), cheap for the evolving state and a few clones.
   const MatX IKH = MatX::Identity(dim(), dim()) - K * H;
-  const MatX P = IKH * P_ * IKH.transpose() + K * R * K.transpose();
-  P_ = 0.5 * (P + P.transpose());
+  const MatX P = IKH * cov() * IKH.transpose() + K * R * K.transpose();
+  cov() = 0.5 * (P + P.transpose());
   inject(K * r);
   return UpdateOutcome::kApplied;
 }

@@ -115,12 +115,19 @@ class ImoFilter {
  private:
   void syncCrossCovariance();
   int dim() const { return kStateDim + kCloneDim * static_cast<int>(clones_.size()); }
+  // The covariance proper: the top-left dim() x dim() block of the storage P_.
+  auto cov() { return P_.topLeftCorner(dim(), dim()); }
+  auto cov() const { return P_.topLeftCorner(dim(), dim()); }
+  // Grows the storage (geometrically, keeping the covariance) to hold at least n x n.
+  void reserve(int n);
 
   ImoFilterOptions options_;
   ImoNominalState x_;
   std::vector<ImoClone> clones_;
-  // Covariance, evolving state first. The evolving-clone cross block is propagated lazily:
-  // the true block is phi_ * P_(0:15, 15:) (phi_ = product of transitions since the last sync).
+  // Covariance storage, evolving state first; only cov() is meaningful. Cloning and
+  // marginalization work in place, so a run allocates it once. The evolving-clone cross block
+  // is propagated lazily: the true block is phi_ * cov()(0:15, 15:) (phi_ = product of
+  // transitions since the last sync).
   MatX P_;
   Mat15 phi_ = Mat15::Identity();
   double last_chi2_ = 0.0;
