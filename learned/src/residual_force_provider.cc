@@ -24,16 +24,25 @@ std::pair<std::size_t, std::size_t> samplesInInterval(const std::vector<Dynamics
   return {first, last};
 }
 
+// One residual force per sample with t_i <= t <= t_j: force_of(sample) for each.
+template <typename ForceOf>
+std::vector<ResidualForce> forcesInInterval(const std::vector<DynamicsInput>& samples,
+                                            Timestamp t_i, Timestamp t_j, ForceOf force_of) {
+  const auto [first, last] = samplesInInterval(samples, t_i, t_j);
+  std::vector<ResidualForce> out;
+  out.reserve(last - first);
+  for (std::size_t k = first; k < last; ++k) out.push_back(force_of(samples[k]));
+  return out;
+}
+
 }  // namespace
 
 std::vector<ResidualForce> ZeroResidualForceProvider::residualForces(
     const std::vector<DynamicsInput>& samples, Timestamp t_i, Timestamp t_j,
     const Vec3& /*gyro_bias*/) const {
-  const auto [first, last] = samplesInInterval(samples, t_i, t_j);
-  std::vector<ResidualForce> out;
-  out.reserve(last - first);
-  for (std::size_t k = first; k < last; ++k) out.push_back({samples[k].t, Vec3::Zero(), Mat3::Zero()});
-  return out;
+  return forcesInInterval(samples, t_i, t_j, [](const DynamicsInput& s) {
+    return ResidualForce{s.t, Vec3::Zero(), Mat3::Zero()};
+  });
 }
 
 TcnResidualForceProvider::TcnResidualForceProvider(std::shared_ptr<const ResidualForceModel> model)
@@ -44,15 +53,38 @@ TcnResidualForceProvider::TcnResidualForceProvider(std::shared_ptr<const Residua
 std::vector<ResidualForce> TcnResidualForceProvider::residualForces(
     const std::vector<DynamicsInput>& samples, Timestamp t_i, Timestamp t_j,
     const Vec3& gyro_bias) const {
-  const auto [first, last] = samplesInInterval(samples, t_i, t_j);
-  std::vector<ResidualForce> out;
-  out.reserve(last - first);
-  for (std::size_t k = first; k < last; ++k) {
-    const ResidualForcePrediction p =
-        model_->predict(model_->windowEndingAt(samples, samples[k].t, gyro_bias));
-    out.push_back({samples[k].t, p.force, p.covariance});
-  }
-  return out;
+  return forcesInInterval(samples, t_i, t_j, [&](const DynamicsInput& s) {
+    const ResidualForcePrediction p = model_->predict(model_->windowEndingAt(samples, s.t, gyro_bias));
+    return ResidualForce{s.t, p.force, p.covariance};
+  });
+}
+
+GroundTruthResidualForceProvider::GroundTruthResidualForceProvider(std::vector<ForceSample> forces)
+    : forces_(std::move(forces)) {
+  if (forces_.empty()) throw std::invalid_argument("no ground-truth forces");
+  for (std::size_t k = 1; k < forces_.size(); ++k)
+    if (forces_[k].t <= forces_[k - 1].t)
+      throw std::invalid_argument("ground-truth forces are not strictly increasing in time");
+}
+
+std::vector<ResidualForce> GroundTruthResidualForceProvider::residualForces(
+    const std::vector<DynamicsInput>& samples, Timestamp t_i, Timestamp t_j,
+    const Vec3& /*gyro_bias*/) const {
+  return forcesInInterval(samples, t_i, t_j, [this](const DynamicsInput& s) {
+    const auto hi = std::lower_bound(forces_.begin(), forces_.end(), s.t,
+                                     [](const ForceSample& f, Timestamp v) { return f.t < v; });
+    Vec3 drag;
+    if (hi == forces_.begin()) {
+      drag = hi->drag;
+    } else if (hi == forces_.end()) {
+      drag = forces_.back().drag;
+    } else {
+      const auto lo = hi - 1;
+      const double a = static_cast<double>(s.t - lo->t) / static_cast<double>(hi->t - lo->t);
+      drag = (1.0 - a) * lo->drag + a * hi->drag;
+    }
+    return ResidualForce{s.t, drag, Mat3::Zero()};
+  });
 }
 
 std::vector<DynamicsInput> makeDynamicsInputs(const std::vector<ImuSample>& imu,

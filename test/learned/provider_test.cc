@@ -40,6 +40,30 @@ TEST(ZeroProvider, ReturnsZeroForEverySampleInTheInterval) {
   EXPECT_THROW(zero.residualForces(s, fromSeconds(1.3), fromSeconds(1.2), Vec3::Zero()), std::invalid_argument);
 }
 
+// The diagnostic "perfect model": the true drag at every input sample, linear between the
+// force samples (the external force is not part of it), held beyond their ends.
+TEST(GroundTruthProvider, InterpolatesTheTrueDragAtEachSample) {
+  std::vector<ForceSample> forces;
+  for (int k = 0; k <= 20; ++k) {  // 20 Hz over 1 s, drag linear in time
+    const double t = 0.05 * k;
+    forces.push_back({fromSeconds(1.0 + t), Vec3(9.0, 9.0, 9.0), Vec3(-2.0 * t, 1.0 + t, 0.5)});
+  }
+  GroundTruthResidualForceProvider truth(forces);
+  const auto s = flightInputs();
+  const auto f = truth.residualForces(s, fromSeconds(1.2), fromSeconds(1.3), Vec3::Zero());
+  ASSERT_EQ(f.size(), 11u);
+  for (const auto& r : f) {
+    const double t = toSeconds(r.t) - 1.0;
+    EXPECT_LT((r.force - Vec3(-2.0 * t, 1.0 + t, 0.5)).norm(), 1e-12) << t;
+  }
+  std::vector<DynamicsInput> late = {{fromSeconds(3.0), Vec3::Zero(), Vec3::Zero()}};
+  EXPECT_EQ(truth.residualForces(late, fromSeconds(3.0), fromSeconds(3.0), Vec3::Zero()).front().force,
+            forces.back().drag);
+  EXPECT_THROW(GroundTruthResidualForceProvider({}), std::invalid_argument);
+  std::swap(forces[3], forces[4]);
+  EXPECT_THROW(GroundTruthResidualForceProvider{forces}, std::invalid_argument);
+}
+
 TEST(TcnProvider, MatchesTheModelOnSampleAlignedWindows) {
   const auto m = model();
   TcnResidualForceProvider provider(m);

@@ -138,6 +138,59 @@ TEST_F(HdvioRun, WritesExternalResidualAndTotalForces) {
     EXPECT_EQ(vimo_total[k].second, vimo_ext[k].second) << k;
 }
 
+// The diagnostic perfect residual model: the residual force written at each state is the
+// simulator's true drag there; a sequence without ground-truth forces is a clear error.
+TEST_F(HdvioRun, GroundTruthResidualForceIsTheTrueDragAndNeedsIt) {
+  const std::string cfg = writeConfig(
+      "hdvio_truth.yaml",
+      "method: hdvio\nresidual_force: {type: ground_truth}\nrun: {init_from_groundtruth: true}\n");
+  const fs::path out = dir_ / "out_hdvio_truth";
+  Outcome o = run("--config " + cfg + " --dataset " + (dir_ / "seq").string() + " --out " +
+                  out.string() + " --evaluate=false");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  std::vector<std::pair<long long, Vec3>> drag;  // force_groundtruth0: t, f_ext xyz, f_drag xyz
+  {
+    std::ifstream f(dir_ / "seq" / "mav0" / "force_groundtruth0" / "data.csv");
+    std::string line;
+    while (std::getline(f, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      std::replace(line.begin(), line.end(), ',', ' ');
+      std::istringstream ss(line);
+      long long t = 0;
+      double e[3], d[3];
+      ss >> t >> e[0] >> e[1] >> e[2] >> d[0] >> d[1] >> d[2];
+      if (ss) drag.push_back({t, Vec3(d[0], d[1], d[2])});
+    }
+  }
+  ASSERT_GT(drag.size(), 100u);
+  const auto res = readForceCsv(out / "stamped_residual_force_estimate.csv");
+  ASSERT_GT(res.size(), 40u);
+  double largest = 0.0;
+  for (const auto& [t, f] : res) {
+    const auto hi = std::lower_bound(drag.begin(), drag.end(), t,
+                                     [](const auto& d, long long v) { return d.first < v; });
+    ASSERT_TRUE(hi != drag.end()) << t;
+    Vec3 expected = hi->second;
+    if (hi->first != t) {
+      ASSERT_TRUE(hi != drag.begin()) << t;
+      const auto lo = hi - 1;
+      const double a = static_cast<double>(t - lo->first) / static_cast<double>(hi->first - lo->first);
+      expected = (1.0 - a) * lo->second + a * hi->second;
+    }
+    EXPECT_LT((f - expected).norm(), 1e-6) << t;  // written with 9 decimals
+    largest = std::max(largest, f.norm());
+  }
+  EXPECT_GT(largest, 0.1) << "the flight has drag";
+
+  const fs::path no_forces = dir_ / "no_forces";
+  fs::copy(dir_ / "seq", no_forces, fs::copy_options::recursive);
+  fs::remove_all(no_forces / "mav0" / "force_groundtruth0");
+  o = run("--config " + cfg + " --dataset " + no_forces.string() + " --out " + (dir_ / "o_nf").string());
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("needs the simulator's force_groundtruth0"), std::string::npos) << o.output;
+  EXPECT_FALSE(fs::exists(dir_ / "o_nf"));
+}
+
 TEST_F(HdvioRun, BadExperimentsAndMissingSensorsAreClearErrors) {
   const std::string seq = (dir_ / "seq").string();
   const std::string typo = writeConfig("typo.yaml", "method: vio\nbackend:\n  num_keyframe: 10\n");

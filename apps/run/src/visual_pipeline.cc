@@ -33,16 +33,32 @@ class VisualPipeline : public MethodPipeline {
     run_.seed = static_cast<std::uint32_t>(seed);
     r.finish();
     frontend_ = loadVisualFrontendConfig(cfg.optionalSection("frontend"));
-    // hdvio: the learned residual force (residual_force: {type: tcn, weights: ...}); zero if absent.
+    // hdvio: the learned residual force (residual_force: {type: tcn, weights: ...}); zero if
+    // absent. type ground_truth (diagnostics, simulated flights) uses the sequence's true drag.
     if (cfg.has("residual_force")) {
       if (method_ != VioMethod::kHdvio)
         throw InputError(file.path, 0, "residual_force is only used by method hdvio");
-      provider_ = learned::makeResidualForceProvider(cfg.section("residual_force"), file.dir);
+      const ConfigReader rf = cfg.section("residual_force");
+      std::string type;
+      rf.readChoice("type", &type, {"zero", "tcn", "ground_truth"}, true);
+      if (type == "ground_truth") {
+        rf.finish();
+        ground_truth_residual_ = true;
+      } else {
+        provider_ = learned::makeResidualForceProvider(rf, file.dir);
+      }
     }
   }
 
   RunResults run(const Sequence& seq) override {
     const std::vector<ThrustSample> thrust = thrustSamples(seq);
+    if (ground_truth_residual_) {
+      if (seq.forces.empty())
+        throw InputError(seq.name, 0,
+                         "residual_force type ground_truth needs the simulator's "
+                         "force_groundtruth0/; the sequence has none");
+      provider_ = std::make_shared<learned::GroundTruthResidualForceProvider>(seq.forces);
+    }
     if (usesDynamics(method_) && thrust.empty())
       throw InputError(seq.name, 0,
                        "method needs thrust: collective thrust (thrust0/ or rotor speeds with a "
@@ -112,6 +128,7 @@ class VisualPipeline : public MethodPipeline {
   VioRunOptions run_;
   VisualFrontendConfig frontend_;
   std::shared_ptr<learned::ResidualForceProvider> provider_;
+  bool ground_truth_residual_ = false;  // provider_ is built from each sequence's forces
 };
 
 }  // namespace

@@ -59,6 +59,23 @@ class TcnResidualForceProvider final : public ResidualForceProvider {
   std::shared_ptr<const ResidualForceModel> model_;
 };
 
+// Diagnostics on simulated flights: the sequence's true drag force (ForceSample::drag, linear
+// between samples) at each sample, i.e. a perfect residual-force model, the upper bound of
+// what a learned model can give the estimator (the external force is left to it, as for the
+// TCN). Throws std::invalid_argument if forces is empty or not strictly increasing in time.
+class GroundTruthResidualForceProvider final : public ResidualForceProvider {
+ public:
+  explicit GroundTruthResidualForceProvider(std::vector<ForceSample> forces);
+  std::string name() const override { return "ground_truth"; }
+  double historySeconds() const override { return 0.0; }
+  std::vector<ResidualForce> residualForces(const std::vector<DynamicsInput>& samples,
+                                            Timestamp t_i, Timestamp t_j,
+                                            const Vec3& gyro_bias) const override;
+
+ private:
+  std::vector<ForceSample> forces_;
+};
+
 // Glue for the smoother: thrust samples with t_from <= t <= t_to, each paired with the raw
 // gyroscope linearly interpolated at its time (samples outside the IMU span are skipped).
 std::vector<DynamicsInput> makeDynamicsInputs(const std::vector<ImuSample>& imu,
@@ -69,7 +86,8 @@ std::vector<DynamicsInput> makeDynamicsInputs(const std::vector<ImuSample>& imu,
 Vec3 residualForceAt(const std::vector<ResidualForce>& forces, Timestamp t);
 
 // From a config section:
-//   type: zero | tcn          (required)
+//   type: zero | tcn          (required; ground_truth is built by the caller, which has the
+//                              sequence: see GroundTruthResidualForceProvider)
 //   weights: <path>           (tcn only; relative paths are taken relative to base_dir)
 //   default_sigma: 0.3        (tcn only; m/s^2, used when the network has no variance head)
 // Calls finish() on the section. Throws InputError on bad keys or a bad weight file.
