@@ -163,7 +163,9 @@ TEST(SlidingWindowSmoother, WarmStartCarriesTheTrustRegionWithinItsBounds) {
     }
     // Each solve starts where the last ended, so the growth accumulates up to the cap (a solve
     // from 1e2 alone ends near 1e3-1e4).
-    if (warm) EXPECT_EQ(largest, 1e6);
+    if (warm) {
+      EXPECT_EQ(largest, 1e6);
+    }
   }
 }
 

@@ -166,7 +166,7 @@ std::vector<RunMetrics> collectResults(const Matrix& matrix, const std::vector<R
       }
       try {
         const eval::Estimate est = eval::loadEstimate(
-            {estimateName(*j), j->result_dir, std::nullopt, std::nullopt}, eval::TrajectoryFormat::kAuto);
+            eval::resultFolderSpec(estimateName(*j), j->result_dir), eval::TrajectoryFormat::kAuto);
         if (est.trajectory.size() > 1)
           m.duration_s = secondsBetween(est.trajectory.t.front(), est.trajectory.t.back());
         report.results.push_back(eval::evaluateEstimate(*gt, est, options, report.distances));

@@ -124,9 +124,8 @@ bool evaluateRun(const Sequence& seq, const std::string& dataset_path,
     }
     eval::EvaluationOptions eo;
     eo.alignment = options.alignment;
-    const eval::Estimate est =
-        eval::loadEstimate({estimateName(results_dir), results_dir, std::nullopt, std::nullopt},
-                           eval::TrajectoryFormat::kAuto);
+    const eval::Estimate est = eval::loadEstimate(
+        eval::resultFolderSpec(estimateName(results_dir), results_dir), eval::TrajectoryFormat::kAuto);
     eval::EvaluationReport report;
     report.ground_truth_source = dataset_path;
     report.options = eo;

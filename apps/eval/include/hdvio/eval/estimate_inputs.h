@@ -9,6 +9,7 @@
 // commas (gflags cannot repeat a flag).
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hdvio/eval/evaluation.h"
@@ -23,6 +24,14 @@ struct EstimateSpec {
   std::optional<std::string> force_path;
   std::optional<std::string> total_force_path;
 };
+
+// A run's result folder: its velocity and force files are found in it by loadEstimate.
+inline EstimateSpec resultFolderSpec(std::string name, std::string dir) {
+  EstimateSpec spec;
+  spec.name = std::move(name);
+  spec.path = std::move(dir);
+  return spec;
+}
 
 // Throws InputError for empty lists, bad names (allowed: letters, digits, _ - .) and duplicates.
 std::vector<EstimateSpec> parseEstimateList(const std::string& list);
