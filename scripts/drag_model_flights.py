@@ -21,8 +21,8 @@ from dynamics_noise_calibration import quat_to_rot, read_csv
 
 
 def load(folder):
-    gt = read_csv(f"{folder}/mav0/state_groundtruth_estimate0/data.csv")
-    fg = read_csv(f"{folder}/mav0/force_groundtruth0/data.csv")
+    gt = read_csv(f"{folder}/mav0/state_groundtruth_estimate0/data.csv", min_cols=11)
+    fg = read_csv(f"{folder}/mav0/force_groundtruth0/data.csv", min_cols=7)
     idx = np.clip(np.searchsorted(gt[:, 0], fg[:, 0]), 0, len(gt) - 1)
     R = quat_to_rot(gt[idx, 4:8])
     v_body = np.einsum("nji,nj->ni", R, gt[idx, 8:11])

@@ -14,11 +14,36 @@ output of `hdvio_force_eval --out_csv` (t, measured, thrust, thrust + TCN, body 
   dynamics_noise_calibration.py --flight <asl folder> <force_eval.csv> [--flight ...]
 """
 import argparse
+import os
+import sys
+import warnings
+
 import numpy as np
 
 
-def read_csv(path):
-    return np.genfromtxt(path, delimiter=",", comments="#")
+def fail(path, problem):
+    print(f"error: {path}: {problem}", file=sys.stderr)
+    sys.exit(2)
+
+
+def read_csv(path, min_cols=1):
+    """Numeric CSV ('#' comments) as a 2-D array; exits 2 naming the file on bad input."""
+    if not os.path.isfile(path):
+        fail(path, "no such file")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # ragged rows / empty file -> error, not a warning
+            d = np.genfromtxt(path, delimiter=",", comments="#", ndmin=2)
+    except (ValueError, UserWarning) as e:
+        fail(path, f"not a numeric CSV ({str(e).splitlines()[0]})")
+    if d.shape[0] == 0 or d.shape[1] < min_cols:
+        fail(path, f"expected at least {min_cols} columns and one row, found {d.shape[1]} x {d.shape[0]}")
+    bad = np.argwhere(~np.isfinite(d))
+    if len(bad):
+        fail(path, f"row {bad[0][0] + 1} (data row), column {bad[0][1] + 1}: not a number")
+    if np.any(np.diff(d[:, 0]) <= 0):
+        fail(path, f"timestamps not strictly increasing at data row {int(np.argmax(np.diff(d[:, 0]) <= 0)) + 2}")
+    return d
 
 
 def quat_to_rot(q):  # q: N x 4 (w, x, y, z)
@@ -30,13 +55,13 @@ def quat_to_rot(q):  # q: N x 4 (w, x, y, z)
 
 
 def world_error(folder, eval_csv):
-    ev = read_csv(eval_csv)
+    ev = read_csv(eval_csv, min_cols=10)
     t = ev[:, 0]
     f_res = ev[:, 7:10] - ev[:, 4:7]  # (thrust + TCN) - thrust
-    fg = read_csv(f"{folder}/mav0/force_groundtruth0/data.csv")
+    fg = read_csv(f"{folder}/mav0/force_groundtruth0/data.csv", min_cols=7)
     tg = fg[:, 0] * 1e-9
     true_force = np.stack([np.interp(t, tg, fg[:, 1 + i] + fg[:, 4 + i]) for i in range(3)], -1)
-    gt = read_csv(f"{folder}/mav0/state_groundtruth_estimate0/data.csv")
+    gt = read_csv(f"{folder}/mav0/state_groundtruth_estimate0/data.csv", min_cols=11)
     idx = np.clip(np.searchsorted(gt[:, 0] * 1e-9, t), 0, len(gt) - 1)
     R = quat_to_rot(gt[idx, 4:8])
     e_body = true_force - f_res

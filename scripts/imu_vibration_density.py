@@ -10,7 +10,10 @@ over the band. Welch PSD, 256-sample Hann segments with 50 % overlap.
 (convert Blackbird / DIDO flights first: hdvio_convert --input <flight> --output <ASL folder>)
 """
 import argparse
+
 import numpy as np
+
+from dynamics_noise_calibration import read_csv
 
 
 def welch(x, fs, n=256):
@@ -28,7 +31,7 @@ def main():
     print("| flight | IMU rate [Hz] | band [Hz] | accel x / y / z [m/s^2/sqrt(Hz)] | gyro x / y / z [rad/s/sqrt(Hz)] |")
     print("|---|---|---|---|---|")
     for folder in a.folders:
-        d = np.genfromtxt(f"{folder}/mav0/imu0/data.csv", delimiter=",", comments="#")
+        d = read_csv(f"{folder}/mav0/imu0/data.csv", min_cols=7)
         fs = 1.0 / np.median(np.diff(d[:, 0] * 1e-9))
         hi = 0.8 * fs / 2
         dens = []
