@@ -1,6 +1,7 @@
 // hdvio_drag_fit: fits the Model-EKF's thrust scale and linear rotor drag (docs/imo.md) on
 // training flights by least squares against the accelerometer, f = k T - D v_body, and prints
 // the thrust-vs-accelerometer check (world-frame mean / RMS of R (f - model)) before and after.
+// With --drag_law it also fits the hybrid dynamics' drag law (linear + quadratic, docs/hdvio_story.md).
 //   hdvio_drag_fit --data ../shared/data/blackbird/clover_yawForward_maxSpeed5p0/train
 //   hdvio_drag_fit --data_root ../shared/data/dido --data <train flights> --thrust_coefficient_over_mass 1.025675e-06
 #include <cstdio>
@@ -18,6 +19,9 @@ DEFINE_string(data_root, "", "prefix for relative --data paths");
 DEFINE_double(thrust_coefficient_over_mass, 0.0,
               "C_T/m for flights without thrust: T = c * sum(w_i^2) along --thrust_axis z (as hdvio_run)");
 DEFINE_bool(fit_thrust_scale, true, "fit the thrust scale k (else k = 1)");
+DEFINE_bool(drag_law, false,
+            "also fit the hybrid dynamics' drag law (linear + quadratic, thrust scale as fitted) "
+            "and print it as backend keys for hdvio_run");
 
 namespace {
 
@@ -63,6 +67,14 @@ int main(int argc, char** argv) {
     printVec("thrust only rms", fit.rms_thrust_only);
     printVec("fitted mean", fit.mean_fitted);
     printVec("fitted rms", fit.rms_fitted);
+    if (FLAGS_drag_law) {
+      const hdvio::imo::DragLawFit law = hdvio::imo::fitDragLaw(samples, fit.model.thrust_scale);
+      const hdvio::Vec3 &d = law.law.linear, &c = law.law.quadratic;
+      std::printf("drag law (hybrid dynamics), backend keys:\n");
+      std::printf("  drag_linear: [%.6f, %.6f, %.6f]\n  drag_quadratic: [%.6f, %.6f, %.6f]\n",
+                  d.x(), d.y(), d.z(), c.x(), c.y(), c.z());
+      printVec("drag law rms", law.rms);
+    }
     return 0;
   });
 }

@@ -49,7 +49,11 @@ VioBackend::VioBackend(const VioBackendOptions& options, const CameraModel& came
       camera_(camera),
       T_BC_(T_BC),
       residual_force_(std::move(residual_force)),
-      smoother_(smootherOptions(options)) {}
+      smoother_(smootherOptions(options)) {
+  if (options.method == VioMethod::kHdvio && options.force_walk_adaptive.enabled)
+    force_walk_.emplace(options.force_walk_adaptive, options.dynamics.force_random_walk,
+                        options.imu.accel_noise_density);
+}
 
 void VioBackend::addImu(const ImuSample& s) {
   if (imu_.empty() || s.t > imu_.back().t) imu_.push_back(s);
@@ -127,7 +131,7 @@ Pose VioBackend::cameraPose(std::uint64_t index) const {
 }
 
 void VioBackend::addInertialFactors(const StateSlot& from, std::uint64_t k, Timestamp t,
-                                    FactorGraph* graph, Values* values) const {
+                                    FactorGraph* graph, Values* values) {
   const std::uint64_t i = from.index;
   const NavState s = stateAt(i, from.t);
   auto pim = std::make_shared<const PreintegratedImu>(
@@ -151,8 +155,17 @@ void VioBackend::addInertialFactors(const StateSlot& from, std::uint64_t k, Time
   auto pit = std::make_shared<const PreintegratedThrust>(PreintegratedThrust::integrate(
       imu_, thrust_, from.t, t, s.bias, options_.thrust, force));
   values->insertVector(F(k), s.f_ext_W);
+  DynamicsFactorParams dynamics = options_.dynamics;
+  if (force_walk_) {
+    // The interval's accelerometer-minus-model force (frame i mean, drag at the predicted
+    // velocities), in the world frame.
+    const DragIntegral drag = integrateDrag(*pit, dynamics.drag, Ri.transpose() * s.v_W,
+                                            Ri.transpose() * v_j);
+    const Vec3 f_W = Ri * (pit->correctedGamma(s.bias) - drag.beta) / dt;
+    dynamics.force_random_walk = force_walk_->update(f_W, dt);
+  }
   graph->add(std::make_shared<DynamicsFactor>(X(i), V(i), F(i), X(k), V(k), F(k), B(i), pit,
-                                              options_.dynamics));
+                                              dynamics));
 }
 
 FrameResult VioBackend::addFrame(const FrameObservations& frame) {

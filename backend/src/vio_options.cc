@@ -93,6 +93,26 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   readVec3(c, "residual_force_noise_density", &o.thrust.residual_force_noise_density, false);
   c.readInRange("force_random_walk", &o.dynamics.force_random_walk, 1e-6, 1e3);
   c.readInRange("force_prior_sigma", &o.dynamics.force_prior_sigma, 1e-6, 1e3);
+  c.readOptional("force_walk_adaptive", &o.force_walk_adaptive.enabled);
+  c.readInRange("force_walk_max", &o.force_walk_adaptive.max, 1e-6, 1e3);
+  c.readInRange("force_walk_block_s", &o.force_walk_adaptive.block_s, 1e-3, 1e3);
+  c.readInRange("force_walk_window_s", &o.force_walk_adaptive.window_s, 1e-3, 1e3);
+  c.readInRange("force_walk_warmup_s", &o.force_walk_adaptive.warmup_s, 0.0, 1e3);
+  if (o.force_walk_adaptive.enabled && o.force_walk_adaptive.window_s < o.force_walk_adaptive.block_s)
+    throw InputError(c.file(), 0,
+                     "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +
+                         "force_walk_window_s': must be >= force_walk_block_s");
+  if (o.force_walk_adaptive.enabled && o.force_walk_adaptive.max < o.dynamics.force_random_walk)
+    throw InputError(c.file(), 0,
+                     "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +
+                         "force_walk_max': must be >= force_random_walk");
+  readVec3(c, "drag_linear", &o.dynamics.drag.linear, false);
+  readVec3(c, "drag_quadratic", &o.dynamics.drag.quadratic, false);
+  if (o.dynamics.drag.enabled() && method == VioMethod::kVid)
+    throw InputError(c.file(), 0,
+                     "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +
+                         "drag_linear': vid's force prior is the accelerometer minus the thrust, "
+                         "which already holds the drag; use it with vimo or hdvio");
   c.readInRange("init_velocity_sigma", &o.init_velocity_sigma, 1e-6, 100.0);
   c.readInRange("init_force_sigma", &o.init_force_sigma, 1e-6, 100.0);
   c.finish();

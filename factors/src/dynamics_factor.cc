@@ -29,6 +29,7 @@ DynamicsFactor::DynamicsFactor(Key pose_i, Key vel_i, Key force_i, Key pose_j, K
     : FactorT({pose_i, vel_i, force_i, pose_j, vel_j, force_j, bias_i}, NoiseModel::isotropic(9, 1.0)),
       pit_(std::move(pit)),
       variant_(params.variant),
+      drag_(params.drag),
       whitening_(pit_->alphaBetaCovariance(), covarianceFor(*pit_, params).diagonal().tail<3>()) {}
 
 bool DynamicsFactor::evaluateError(const double* const* x, double* residual, double** jac) const {
@@ -47,6 +48,10 @@ bool DynamicsFactor::evaluateError(const double* const* x, double* residual, dou
   Eigen::Map<Eigen::Matrix<double, 9, 1>> r(residual);
   r.segment<3>(0) = y_a - (pit.alpha() + pit.dalpha_dbg() * dbg);
   r.segment<3>(3) = y_b - (pit.beta() + pit.dbeta_dbg() * dbg);
+  const Vec3 u_i = RiT * v_i, u_j = RiT * v_j;
+  const DragIntegral drag = integrateDrag(pit, drag_, u_i, u_j);
+  r.segment<3>(0) -= drag.alpha;
+  r.segment<3>(3) -= drag.beta;
   Vec3 mean_body = Vec3::Zero();  // kVidFusion: R_i^T f_ext estimated from accel - thrust
   switch (variant_) {
     case DynamicsVariant::kHdvio: r.segment<3>(6) = f_j - f_i; break;
@@ -65,13 +70,17 @@ bool DynamicsFactor::evaluateError(const double* const* x, double* residual, dou
     J.block<3, 3>(0, 0) = -RiT;
     J.block<3, 3>(0, 3) = hat(y_a);
     J.block<3, 3>(3, 3) = hat(y_b);
+    if (drag_.enabled()) {  // u = R_i^T v: d u / d theta_i = hat(u)
+      J.block<3, 3>(0, 3) -= drag.dalpha_dui * hat(u_i) + drag.dalpha_duj * hat(u_j);
+      J.block<3, 3>(3, 3) -= drag.dbeta_dui * hat(u_i) + drag.dbeta_duj * hat(u_j);
+    }
     if (variant_ == DynamicsVariant::kVidFusion) J.block<3, 3>(6, 3) = Ri * hat(mean_body);
   }
   if (jac[1]) {  // velocity i
     Eigen::Map<Mat9x3> J(jac[1]);
     J.setZero();
-    J.block<3, 3>(0, 0) = -dt * RiT;
-    J.block<3, 3>(3, 0) = -RiT;
+    J.block<3, 3>(0, 0) = -dt * RiT - drag.dalpha_dui * RiT;
+    J.block<3, 3>(3, 0) = -RiT - drag.dbeta_dui * RiT;
   }
   if (jac[2]) {  // force i
     Eigen::Map<Mat9x3> J(jac[2]);
@@ -88,7 +97,8 @@ bool DynamicsFactor::evaluateError(const double* const* x, double* residual, dou
   if (jac[4]) {  // velocity j
     Eigen::Map<Mat9x3> J(jac[4]);
     J.setZero();
-    J.block<3, 3>(3, 0) = RiT;
+    J.block<3, 3>(0, 0) = -drag.dalpha_duj * RiT;
+    J.block<3, 3>(3, 0) = RiT - drag.dbeta_duj * RiT;
   }
   if (jac[5]) {  // force j
     Eigen::Map<Mat9x3> J(jac[5]);

@@ -110,6 +110,7 @@ void ThrustPreintegrator::add(const DynamicsStep& step) {
   s.dgamma_dba_ -= dt * R_mid;
   s.dR_dbg_ = E.transpose() * s.dR_dbg_ - Jr * dt;
 
+  s.drag_nodes_.push_back({R_mid, s.dt_ + 0.5 * dt, dt, 0.0});
   const Vec3 dR_f = s.dR_ * f_m;
   s.alpha_ += s.beta_ * dt + 0.5 * dt2 * dR_f;
   s.beta_ += dR_f * dt;
@@ -123,6 +124,10 @@ PreintegratedThrust ThrustPreintegrator::finish() const {
   PreintegratedThrust out = state_;
   out.dR_ = normalizeRotation(out.dR_);
   out.cov_ = 0.5 * (out.cov_ + out.cov_.transpose());
+  for (PreintegratedThrust::DragNode& n : out.drag_nodes_) {
+    n.w_alpha = n.w_beta * (out.dt_ - n.s);
+    n.s /= out.dt_;
+  }
   if (keep_steps_) out.steps_ = std::make_shared<const std::vector<DynamicsStep>>(steps_);
   return out;
 }

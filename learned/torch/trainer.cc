@@ -61,7 +61,8 @@ SegmentSet buildSegments(const std::vector<FlightSamples>& flights, int window,
         const Mat3 dR = Ri_T * f.q_WB[k].toRotationMatrix();
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 3; ++c) rot.push_back(static_cast<float>(dR(r, c)));
-        const Vec3 a = dR * f.thrust[k];
+        // Thrust plus the drag law at the true body velocity: the network learns the rest.
+        const Vec3 a = dR * (f.thrust[k] + options.drag.force(f.q_WB[k].conjugate() * f.v_W[k]));
         alpha_thrust += dt * dt * wa[k - i] * a;
         beta_thrust += dt * wb[k - i] * a;
       }

@@ -98,7 +98,7 @@ TEST_F(BenchApp, EmitJobsWritesOneCommandPerLine) {
     }
   }
   EXPECT_EQ(sims, 2);       // random_v5 and random_v5_wind
-  EXPECT_EQ(runs, 8);       // 4 methods on each
+  EXPECT_EQ(runs, 10);      // 5 methods on each
   EXPECT_EQ(aggregate, 1);  // last
   EXPECT_FALSE(fs::exists(fs::path(out) / "table.md"));
 }

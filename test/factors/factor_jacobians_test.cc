@@ -112,6 +112,22 @@ TEST_P(DynamicsJacobians, MatchNumerical) {
   }
 }
 
+TEST(FactorJacobians, DynamicsFactorWithDrag) {
+  std::mt19937 rng(17);
+  DynamicsFactorParams params;
+  params.force_random_walk = 0.5;
+  params.drag.linear = Vec3(0.3, 0.25, 0.05);
+  params.drag.quadratic = Vec3(0.02, 0.03, 0.01);
+  for (int trial = 0; trial < kTrials; ++trial) {
+    Vec6 bias;
+    bias << randomVec3(rng, 0.02), randomVec3(rng, 0.1);
+    auto pit = std::make_shared<PreintegratedThrust>(
+        PreintegratedThrust::integrate(randomSteps(rng, 40), bias, ThrustNoiseParams()));
+    DynamicsFactor f(X(0), V(0), F(0), X(1), V(1), F(1), B(0), pit, params);
+    test::expectJacobiansMatchNumerical(f, randomStates(rng, pit->deltaR()), 1e-6);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(AllVariants, DynamicsJacobians,
                          ::testing::Values(DynamicsVariant::kHdvio, DynamicsVariant::kVimo,
                                            DynamicsVariant::kVidFusion));

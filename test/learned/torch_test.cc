@@ -118,5 +118,21 @@ TEST(TorchTraining, SegmentsRemoveTheThrustPart) {
   EXPECT_LT(s.alpha_rest.abs().max().item<double>(), 2e-4);
 }
 
+TEST(TorchTraining, SegmentsRemoveTheDragLawAtTheTrueVelocity) {
+  // Thrust = specific force minus a drag law at the true body velocity: with that law in the
+  // options the targets are near zero again, without it they hold the drag.
+  FlightSamples f = syntheticFlight(0.0);
+  TrainOptions o;
+  o.drag.linear = Vec3(0.3, 0.25, 0.05);
+  o.drag.quadratic = Vec3(0.01, 0.02, 0.01);
+  for (std::size_t k = 0; k < f.size(); ++k)
+    f.thrust[k] = f.force[k] - o.drag.force(f.q_WB[k].conjugate() * f.v_W[k]);
+  const SegmentSet with = buildSegments({f}, 10, o);
+  EXPECT_LT(with.beta_rest.abs().max().item<double>(), 2e-3);
+  EXPECT_LT(with.alpha_rest.abs().max().item<double>(), 2e-4);
+  const SegmentSet without = buildSegments({f}, 10, TrainOptions());
+  EXPECT_GT(without.beta_rest.abs().max().item<double>(), 0.05);
+}
+
 }  // namespace
 }  // namespace hdvio::learned

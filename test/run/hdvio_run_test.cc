@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "../common/run_command.h"
 #include "../learned/deterministic_tcn.h"
 #include "hdvio/core/config.h"
+#include "hdvio/core/drag_law.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/sim/simulator.h"
@@ -189,6 +191,98 @@ TEST_F(HdvioRun, GroundTruthResidualForceIsTheTrueDragAndNeedsIt) {
   EXPECT_EQ(o.exit_code, 2);
   EXPECT_NE(o.output.find("needs the simulator's force_groundtruth0"), std::string::npos) << o.output;
   EXPECT_FALSE(fs::exists(dir_ / "o_nf"));
+}
+
+// The drag law at the estimated velocity (backend.drag_linear / drag_quadratic, with the adaptive
+// force walk): the model force written at each state is the law at that state's estimated body
+// velocity, and it is close to the simulator's true drag.
+TEST_F(HdvioRun, DragLawIsEvaluatedAtTheEstimatedVelocity) {
+  const std::string cfg = writeConfig(
+      "hdvio_drag.yaml",
+      "method: hdvio\nbackend:\n  drag_linear: [0.3, 0.3, 0.05]\n  drag_quadratic: [0.01, 0.01, 0.01]\n"
+      "  force_random_walk: 0.05\n  force_walk_adaptive: true\nresidual_force: {type: zero}\n"
+      "run: {init_from_groundtruth: true}\n");
+  const fs::path out = dir_ / "out_hdvio_drag";
+  const Outcome o = run("--config " + cfg + " --dataset " + (dir_ / "seq").string() + " --out " +
+                        out.string() + " --evaluate=false");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  DragLaw law;
+  law.linear = Vec3(0.3, 0.3, 0.05);
+  law.quadratic = Vec3::Constant(0.01);
+  const auto res = readForceCsv(out / "stamped_residual_force_estimate.csv");
+  const auto vel = readForceCsv(out / "stamped_velocity_estimate.csv");
+  std::ifstream traj(out / "stamped_traj_estimate.txt");
+  std::string line;
+  std::vector<Quat> q;
+  while (std::getline(traj, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ss(line);
+    double t, x, y, z, qx, qy, qz, qw;
+    if (ss >> t >> x >> y >> z >> qx >> qy >> qz >> qw) q.push_back(Quat(qw, qx, qy, qz));
+  }
+  ASSERT_GT(res.size(), 40u);
+  ASSERT_EQ(res.size(), vel.size());
+  ASSERT_EQ(res.size(), q.size());
+  for (std::size_t k = 0; k < res.size(); ++k) {
+    const Vec3 expected = law.force(q[k].normalized().conjugate() * vel[k].second);
+    EXPECT_LT((res[k].second - expected).norm(), 1e-5) << k;  // files hold 9 decimals / digits
+  }
+  // The total non-thrust force (law + external) against the simulator's (external + drag at
+  // the airspeed: the wind is left to the external force), nearest ground-truth sample.
+  std::vector<std::pair<long long, Vec3>> truth;
+  std::ifstream f(dir_ / "seq" / "mav0" / "force_groundtruth0" / "data.csv");
+  while (std::getline(f, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream ss(line);
+    long long t = 0;
+    double e[3], d[3];
+    if (ss >> t >> e[0] >> e[1] >> e[2] >> d[0] >> d[1] >> d[2])
+      truth.push_back({t, Vec3(e[0] + d[0], e[1] + d[1], e[2] + d[2])});
+  }
+  const auto total = readForceCsv(out / "stamped_total_force_estimate.csv");
+  ASSERT_EQ(total.size(), res.size());
+  double err2 = 0.0, true2 = 0.0, law_only2 = 0.0;
+  for (std::size_t k = 0; k < total.size(); ++k) {
+    const long long t = total[k].first;
+    const auto it = std::lower_bound(truth.begin(), truth.end(), t,
+                                     [](const auto& d, long long v) { return d.first < v; });
+    ASSERT_TRUE(it != truth.end());
+    err2 += (total[k].second - it->second).squaredNorm();
+    law_only2 += (res[k].second - it->second).squaredNorm();
+    true2 += it->second.squaredNorm();
+  }
+  std::printf("total force rms error %.3f (law alone %.3f), true rms %.3f m/s^2\n",
+              std::sqrt(err2 / total.size()), std::sqrt(law_only2 / total.size()),
+              std::sqrt(true2 / total.size()));
+  EXPECT_LT(err2, 0.15 * 0.15 * true2);
+  EXPECT_LT(err2, 0.5 * law_only2);  // the external force takes up the wind
+
+  const std::string negative =
+      writeConfig("neg_drag.yaml", "method: hdvio\nbackend:\n  drag_linear: [0.3, -0.3, 0.05]\n");
+  Outcome bad = run("--config " + negative + " --dataset " + (dir_ / "seq").string() + " --out " +
+                    (dir_ / "o_neg").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("'backend.drag_linear': values must be non-negative"), std::string::npos)
+      << bad.output;
+  const std::string low_max = writeConfig(
+      "low_max.yaml",
+      "method: hdvio\nbackend:\n  force_random_walk: 0.5\n  force_walk_adaptive: true\n"
+      "  force_walk_max: 0.1\n");
+  bad = run("--config " + low_max + " --dataset " + (dir_ / "seq").string() + " --out " +
+            (dir_ / "o_max").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("force_walk_max': must be >= force_random_walk"), std::string::npos)
+      << bad.output;
+  const std::string vid = writeConfig("vid_drag.yaml", "method: vid\nbackend:\n  drag_linear: [0.3, 0.3, 0.05]\n");
+  bad = run("--config " + vid + " --dataset " + (dir_ / "seq").string() + " --out " +
+            (dir_ / "o_vid").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("vid_drag.yaml: key 'backend.drag_linear': vid's force prior"), std::string::npos)
+      << bad.output;
+  EXPECT_FALSE(fs::exists(dir_ / "o_neg"));
+  EXPECT_FALSE(fs::exists(dir_ / "o_max"));
+  EXPECT_FALSE(fs::exists(dir_ / "o_vid"));
 }
 
 TEST_F(HdvioRun, BadExperimentsAndMissingSensorsAreClearErrors) {

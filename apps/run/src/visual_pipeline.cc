@@ -95,6 +95,14 @@ class VisualPipeline : public MethodPipeline {
     results.states = out.states;
     results.has_force = usesDynamics(method_);
     if (provider_) results.residual_force_B = residualForcesAtStates(seq, thrust, out.states);
+    const DragLaw& drag = options_.dynamics.drag;
+    if (usesDynamics(method_) && drag.enabled()) {  // the model's force includes the drag law
+      results.residual_force_B.resize(out.states.size(), Vec3::Zero());
+      for (std::size_t k = 0; k < out.states.size(); ++k) {
+        const NavState& s = out.states[k];
+        results.residual_force_B[k] += drag.force(s.T_WB.R().transpose() * s.v_W);
+      }
+    }
     for (const auto& f : out.frames)
       results.timing.push_back({f.state.t, 1e3 * f.solve_time_s, f.solver_iterations,
                                 f.landmarks_in_window, f.observations_used, f.keyframe});

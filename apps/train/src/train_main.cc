@@ -1,11 +1,13 @@
 // hdvio_train: trains the residual-force TCN with libtorch from positions and velocities
 // (HDVIO Eq. 7) and exports it in the Eigen weight format (tcn_weight_file.h).
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include <gflags/gflags.h>
 
 #include "hdvio/core/config.h"
+#include "hdvio/core/drag_law.h"
 #include "hdvio/core/error.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/torch/trainer.h"
@@ -21,10 +23,29 @@ namespace {
 
 using namespace hdvio;
 
-learned::TcnArchitecture readModel(const ConfigReader& m) {
+std::string vecString(const Vec3& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "[%.6g, %.6g, %.6g]", v.x(), v.y(), v.z());
+  return buf;
+}
+
+// A drag law (core/drag_law.h) given here is the physics part of the hybrid model: the network
+// then learns what it leaves, and hdvio_run needs the same law as backend.drag_linear /
+// drag_quadratic.
+Vec3 readDragCoefficients(const ConfigReader& m, const std::string& key) {
+  std::vector<double> c{0.0, 0.0, 0.0};
+  m.readVector(key, &c, 3);
+  for (double x : c)
+    if (!(x >= 0.0)) throw InputError(m.file(), 0, "key 'model." + key + "': values must be non-negative");
+  return Vec3(c[0], c[1], c[2]);
+}
+
+learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag) {
   learned::TcnArchitecture a;
   train::readTcnShape(m, &a);
   m.readOptional("variance_head", &a.variance_head);
+  drag->linear = readDragCoefficients(m, "drag_linear");
+  drag->quadratic = readDragCoefficients(m, "drag_quadratic");
   m.finish();
   train::validateTcnShape(m, a);
   return a;
@@ -64,8 +85,10 @@ int main(int argc, char** argv) {
     data.readInRange("thrust_coefficient", &thrust_coefficient, 0.0, 1.0);
     data.readInRange("mass", &mass, 0.0, 1000.0);
     data.finish();
-    const learned::TcnArchitecture arch = readModel(config.section("model"));
+    DragLaw drag;
+    const learned::TcnArchitecture arch = readModel(config.section("model"), &drag);
     learned::TrainOptions options = readTraining(config.section("training"));
+    options.drag = drag;
     config.finish();
     if (train_paths.empty()) throw InputError(FLAGS_config, 0, "data.train lists no flights");
     if (validation_paths.empty() && validation_every < 2) {
@@ -101,7 +124,11 @@ int main(int argc, char** argv) {
     saveTcnWeights(result.best, FLAGS_out,
                    "trained by hdvio_train --config " + FLAGS_config + "\nbest epoch " +
                        std::to_string(result.best_epoch) + ", validation loss " +
-                       std::to_string(best.validation_loss));
+                       std::to_string(best.validation_loss) +
+                       (drag.enabled() ? "\nresidual of the drag law linear " + vecString(drag.linear) +
+                                             " quadratic " + vecString(drag.quadratic) +
+                                             " (hdvio_run: backend.drag_linear / drag_quadratic)"
+                                       : std::string()));
     std::cout << "wrote " << FLAGS_out << "\n";
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << std::endl;

@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "hdvio/backend/adaptive_force_walk.h"
 #include "hdvio/backend/nav_state.h"
 #include "hdvio/backend/sliding_window_smoother.h"
 #include "hdvio/backend/vio_options.h"
@@ -81,7 +82,7 @@ class VioBackend {
 
   NavState stateAt(std::uint64_t index, Timestamp t) const;
   void addInertialFactors(const StateSlot& from, std::uint64_t to, Timestamp t_to,
-                          FactorGraph* graph, Values* values) const;
+                          FactorGraph* graph, Values* values);
   bool isKeyframe(std::uint64_t index) const;
   void addVisualFactors(std::uint64_t index, const FrameObservations& frame, FrameResult* result);
   bool tryTriangulate(int id, Track* track);
@@ -95,6 +96,7 @@ class VioBackend {
   Pose T_BC_;
   ResidualForceSource residual_force_;
   SlidingWindowSmoother smoother_;
+  std::optional<AdaptiveForceWalk> force_walk_;  // hdvio with backend.force_walk_adaptive
   std::vector<ImuSample> imu_;
   std::vector<ThrustSample> thrust_;
   std::deque<StateSlot> states_;

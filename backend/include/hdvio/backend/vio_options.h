@@ -3,6 +3,7 @@
 // experiment YAML (strict: unknown keys are errors).
 #include <string>
 
+#include "hdvio/backend/adaptive_force_walk.h"
 #include "hdvio/core/config.h"
 #include "hdvio/factors/dynamics_factor.h"
 #include "hdvio/factors/imu_preintegration.h"
@@ -58,6 +59,9 @@ struct VioBackendOptions {
   ImuNoiseParams imu;
   ThrustNoiseParams thrust;
   DynamicsFactorParams dynamics;  // variant follows method
+  // hdvio: adapt the force walk to the accelerometer's evidence (adaptive_force_walk.h);
+  // dynamics.force_random_walk is then its floor.
+  AdaptiveForceWalkOptions force_walk_adaptive;
 
   // Initial state uncertainty (gauge and biases).
   double init_position_sigma = 1e-3;

@@ -4,7 +4,8 @@
 //   r_alpha = R_i^T (p_j - p_i - v_i dt - 1/2 (g + f_i) dt^2) - (alpha + dalpha_dbg dbg)
 //   r_beta  = R_i^T (v_j - v_i - (g + f_i) dt)               - (beta  + dbeta_dbg dbg)
 // f_i is the external force (world frame) held constant over [i, j]; dbg = bg_i - bg used for
-// preintegration. The force term depends on the variant:
+// preintegration. With a drag model (drag_model.h) the integrated drag at the velocities
+// R_i^T v_i, R_i^T v_j is added to alpha and beta. The force term depends on the variant:
 //   kHdvio:     r_f = f_j - f_i                         (random walk, sigma = rw * sqrt(dt))
 //   kVimo:      r_f = f_i                               (zero-mean prior, sigma = prior sigma)
 //   kVidFusion: r_f = f_i - R_i gamma(b_i) / dt         (prior around the mean accelerometer-
@@ -15,6 +16,7 @@
 #include <memory>
 
 #include "hdvio/core/factor.h"
+#include "hdvio/factors/drag_model.h"
 #include "hdvio/factors/fixed_whitening.h"
 #include "hdvio/factors/thrust_preintegration.h"
 
@@ -26,6 +28,7 @@ struct DynamicsFactorParams {
   DynamicsVariant variant = DynamicsVariant::kHdvio;
   double force_random_walk = 1.0;  // kHdvio: m/s^2/sqrt(s)
   double force_prior_sigma = 1.0;  // kVimo / kVidFusion: m/s^2
+  DragLaw drag;                  // none by default (the paper's point-mass model)
 };
 
 class DynamicsFactor final : public FactorT<DynamicsFactor, 9, PoseVar, Vec3Var, Vec3Var, PoseVar,
@@ -44,6 +47,7 @@ class DynamicsFactor final : public FactorT<DynamicsFactor, 9, PoseVar, Vec3Var,
  private:
   std::shared_ptr<const PreintegratedThrust> pit_;
   DynamicsVariant variant_;
+  DragLaw drag_;
   FixedWhitening<9, 6> whitening_;
 };
 

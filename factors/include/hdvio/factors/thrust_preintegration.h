@@ -65,6 +65,16 @@ class PreintegratedThrust {
   const Mat3& dgamma_dbg() const { return dgamma_dbg_; }
   const Mat3& dgamma_dba() const { return dgamma_dba_; }
 
+  // One per integration step, for drag evaluated at the state's velocity (drag_model.h): the
+  // rotation to frame i at the middle of the step, the step's middle as a fraction of dt(), and
+  // the weights with which a force held over the step enters beta (dt_k) and alpha
+  // (dt_k * (dt() - t_mid,k)).
+  struct DragNode {
+    Mat3 dR = Mat3::Identity();
+    double s = 0.0, w_beta = 0.0, w_alpha = 0.0;
+  };
+  const std::vector<DragNode>& dragNodes() const { return drag_nodes_; }
+
   Vec3 correctedAlpha(const Vec3& bg) const { return alpha_ + dalpha_dbg_ * (bg - bias_.head<3>()); }
   Vec3 correctedBeta(const Vec3& bg) const { return beta_ + dbeta_dbg_ * (bg - bias_.head<3>()); }
   Vec3 correctedGamma(const Vec6& b) const {
@@ -83,6 +93,7 @@ class PreintegratedThrust {
   Mat3 dR_dbg_ = Mat3::Zero(), dalpha_dbg_ = Mat3::Zero(), dbeta_dbg_ = Mat3::Zero();
   Mat3 dgamma_dbg_ = Mat3::Zero(), dgamma_dba_ = Mat3::Zero();
   Vec6 bias_ = Vec6::Zero();
+  std::vector<DragNode> drag_nodes_;  // s holds t_mid until finish()
   ThrustNoiseParams params_;
   std::shared_ptr<const std::vector<DynamicsStep>> steps_;
 };

@@ -33,8 +33,9 @@ struct RunResults {
   std::vector<StageTiming> stages;   // per stage, whole run
   std::string effective_config;  // YAML
   bool has_force = false;
-  // Learned residual force (IMU frame, m/s^2) at each state, parallel to states; empty when the
-  // method has no residual-force model (then the total non-thrust force is f_ext alone).
+  // The model's non-thrust force (IMU frame, m/s^2) at each state, parallel to states: learned
+  // residual force plus the drag law at the state's velocity, if configured; empty when the
+  // method has neither (then the total non-thrust force is f_ext alone).
   std::vector<Vec3> residual_force_B;
 };
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hdvio/backend/imo/displacement_source.h"
+#include "hdvio/core/drag_law.h"
 #include "hdvio/core/sequence.h"
 
 namespace hdvio::imo {
@@ -42,6 +43,15 @@ struct DragFit {
 // Least squares over all samples: k (if fit_thrust_scale, else 1) and d_x, d_y, d_z.
 // Throws InputError with fewer than 100 samples.
 DragFit fitDragModel(const std::vector<DragSample>& samples, bool fit_thrust_scale);
+
+// For the hybrid dynamics of the visual methods (backend.drag_linear / drag_quadratic): the
+// drag law f = k T - D u - C |u| u (core/drag_law.h, u = body velocity) with the thrust scale
+// k held fixed, fitted per axis by non-negative least squares. rms: world-frame residual per axis.
+struct DragLawFit {
+  DragLaw law;
+  Vec3 rms = Vec3::Zero();
+};
+DragLawFit fitDragLaw(const std::vector<DragSample>& samples, double thrust_scale);
 
 // The Model-EKF measurement of the drag model. Over the window, from the begin clone,
 //   p_end - p_begin = C v_begin + d,

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "hdvio/core/drag_law.h"
 #include "hdvio/learned/flight_samples.h"
 #include "hdvio/learned/tcn.h"
 #include "hdvio/learned/torch/tcn_module.h"
@@ -27,6 +28,7 @@ struct TrainOptions {
   double max_minutes = 10.0;      // wall-clock budget; stops after the epoch that exceeds it
   double variance_weight = 0.1;   // weight of the beta NLL term (variance head only)
   std::string checkpoint_dir;     // "" = no checkpoints; else checkpoint.pt + best.tcn
+  DragLaw drag;                   // physics part; the network learns the rest (none by default)
 };
 
 struct EpochStats {

@@ -1,0 +1,25 @@
+#include "hdvio/factors/drag_model.h"
+
+#include "hdvio/factors/thrust_preintegration.h"
+
+namespace hdvio {
+
+DragIntegral integrateDrag(const PreintegratedThrust& pit, const DragLaw& drag, const Vec3& u_i,
+                           const Vec3& u_j) {
+  DragIntegral out;
+  if (!drag.enabled()) return out;
+  for (const PreintegratedThrust::DragNode& n : pit.dragNodes()) {
+    const Vec3 u = n.dR.transpose() * ((1.0 - n.s) * u_i + n.s * u_j);
+    const Vec3 m = n.dR * drag.force(u);
+    const Mat3 J = n.dR * drag.jacobian(u) * n.dR.transpose();  // d m / d(interpolated u_i)
+    out.beta += n.w_beta * m;
+    out.alpha += n.w_alpha * m;
+    out.dbeta_dui += (n.w_beta * (1.0 - n.s)) * J;
+    out.dbeta_duj += (n.w_beta * n.s) * J;
+    out.dalpha_dui += (n.w_alpha * (1.0 - n.s)) * J;
+    out.dalpha_duj += (n.w_alpha * n.s) * J;
+  }
+  return out;
+}
+
+}  // namespace hdvio

@@ -1,0 +1,74 @@
+// Drag at the state's velocity (drag_model.h): integrated over a keyframe interval of the
+// analytic flight it must reproduce the flight, which the preintegrated thrust alone does not.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "hdvio/factors/drag_model.h"
+#include "hdvio/factors/thrust_preintegration.h"
+#include "test_support.h"
+
+namespace hdvio {
+namespace {
+using test::AnalyticFlight;
+
+DragLaw vehicleDrag() {
+  DragLaw d;
+  d.linear = Vec3(0.3, 0.25, 0.05);
+  d.quadratic = Vec3(0.02, 0.03, 0.01);
+  return d;
+}
+
+// alpha / beta errors of (thrust preintegration + drag integral) against the flight over
+// [t_i, t_i + 0.05 s], with thrust chosen so that thrust + drag(R^T v) explains the flight.
+Eigen::Vector2d errorsOverInterval(double t_i, const DragLaw& model_in_factor) {
+  const AnalyticFlight f;
+  const DragLaw truth = vehicleDrag();
+  const double t_j = t_i + 0.05;
+  const auto imu = test::sampleImu(f, 1000.0, t_j + 0.1);
+  std::vector<ThrustSample> thrust;
+  for (const ImuSample& s : imu) {
+    const double t = toSeconds(s.t);
+    const Vec3 u = f.R(t).transpose() * f.v(t);
+    thrust.push_back({s.t, f.specificForce(t) - truth.force(u)});
+  }
+  const auto pit = PreintegratedThrust::integrate(imu, thrust, fromSeconds(t_i), fromSeconds(t_j),
+                                                  Vec6::Zero(), ThrustNoiseParams());
+  const Mat3 RiT = f.R(t_i).transpose();
+  const double dt = t_j - t_i;
+  const Vec3 g = gravityWorld();
+  const Vec3 beta = RiT * (f.v(t_j) - f.v(t_i) - g * dt);
+  const Vec3 alpha = RiT * (f.p(t_j) - f.p(t_i) - f.v(t_i) * dt - 0.5 * g * dt * dt);
+  const DragIntegral drag = integrateDrag(pit, model_in_factor, RiT * f.v(t_i), RiT * f.v(t_j));
+  return Eigen::Vector2d((pit.alpha() + drag.alpha - alpha).norm(),
+                         (pit.beta() + drag.beta - beta).norm());
+}
+
+TEST(DragLaw, IntegratedAtTheStateVelocityReproducesTheFlight) {
+  for (double t_i : {0.2, 0.9, 1.7}) {
+    const Eigen::Vector2d with = errorsOverInterval(t_i, vehicleDrag());
+    const Eigen::Vector2d without = errorsOverInterval(t_i, DragLaw());
+    std::printf("t_i %.1f: alpha / beta error with drag %.2g / %.2g, without %.2g / %.2g\n", t_i,
+                with[0], with[1], without[0], without[1]);
+    EXPECT_LT(with[0], 2e-6);  // m
+    EXPECT_LT(with[1], 5e-5);  // m/s
+    EXPECT_GT(without[1], 100.0 * with[1]);
+  }
+}
+
+TEST(DragLaw, JacobianMatchesNumerical) {
+  const DragLaw d = vehicleDrag();
+  for (const Vec3& u : {Vec3(3.0, -2.0, 1.0), Vec3(0.1, 0.0, -0.2), Vec3(-8.0, 5.0, 0.5)}) {
+    Mat3 numerical;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 h = 1e-6 * Vec3::Unit(k);
+      numerical.col(k) = (d.force(u + h) - d.force(u - h)) / 2e-6;
+    }
+    EXPECT_LT((numerical - d.jacobian(u)).cwiseAbs().maxCoeff(), 1e-8);
+  }
+  EXPECT_TRUE(d.force(Vec3::Zero()).isZero(0.0));
+  EXPECT_FALSE(DragLaw().enabled());
+}
+
+}  // namespace
+}  // namespace hdvio
