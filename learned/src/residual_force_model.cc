@@ -9,8 +9,8 @@
 
 namespace hdvio::learned {
 
-ResidualForceModel::ResidualForceModel(Tcn tcn, double default_sigma)
-    : tcn_(std::move(tcn)), default_sigma_(default_sigma) {
+ResidualForceModel::ResidualForceModel(Tcn tcn, double default_sigma, DragLaw drag_law)
+    : tcn_(std::move(tcn)), default_sigma_(default_sigma), drag_law_(std::move(drag_law)) {
   if (!(default_sigma >= 0.0) || !std::isfinite(default_sigma)) {
     throw std::invalid_argument("default_sigma must be finite and non-negative");
   }
@@ -25,7 +25,8 @@ std::shared_ptr<const ResidualForceModel> ResidualForceModel::load(const std::st
   if (file.info.task != "force") {
     throw InputError(path, 0, "not a residual-force network (task '" + file.info.task + "')");
   }
-  return std::make_shared<const ResidualForceModel>(std::move(file.tcn), default_sigma);
+  return std::make_shared<const ResidualForceModel>(std::move(file.tcn), default_sigma,
+                                                    file.info.drag_law);
 }
 
 ResidualForcePrediction ResidualForceModel::predict(const std::vector<DynamicsInput>& window) const {

@@ -19,6 +19,7 @@ namespace {
 constexpr const char* kFormatName = "hdvio_tcn";
 constexpr int kFormatVersion = 1;   // plain networks, no info
 constexpr int kFormatVersion2 = 2;  // residual networks, info, float32 encoding
+constexpr int kFormatVersion3 = 3;  // version 2 + the drag law the force network complements
 
 // Walks the meaningful lines of the file, splitting each into whitespace tokens.
 class LineCursor {
@@ -238,18 +239,31 @@ std::string word(LineCursor& c, const std::string& key, const std::vector<std::s
   c.fail("unknown " + key + " '" + c.tokens()[1] + "' (expected one of: " + list + ")");
 }
 
-TcnFileInfo readInfo(LineCursor& c) {
+TcnFileInfo readInfo(LineCursor& c, bool with_drag_law) {
   TcnFileInfo info;
   info.task = word(c, "task", {"force", "displacement"});
   info.inputs = word(c, "inputs", {"thrust_gyro", "accel_gyro"});
   c.expectNext("output_sigma");
   if (c.tokens()[0] != "output_sigma") c.fail("expected \"output_sigma <s1> <s2> <s3>\" or \"output_sigma none\"");
-  if (c.tokens().size() == 2 && c.tokens()[1] == "none") return info;
-  c.expectTokens(4, "output_sigma <s1> <s2> <s3>");
-  for (std::size_t i = 1; i < 4; ++i) {
-    info.output_sigma.push_back(c.real(i));
-    if (info.output_sigma.back() <= 0.0) c.fail("output_sigma must be positive");
+  if (!(c.tokens().size() == 2 && c.tokens()[1] == "none")) {
+    c.expectTokens(4, "output_sigma <s1> <s2> <s3>");
+    for (std::size_t i = 1; i < 4; ++i) {
+      info.output_sigma.push_back(c.real(i));
+      if (info.output_sigma.back() <= 0.0) c.fail("output_sigma must be positive");
+    }
   }
+  if (!with_drag_law) return info;
+  const std::string form = "drag_law <dx> <dy> <dz> <cx> <cy> <cz>";
+  c.expectNext(form);
+  if (c.tokens()[0] != "drag_law") c.fail("expected \"" + form + "\" or \"drag_law none\"");
+  if (c.tokens().size() == 2 && c.tokens()[1] == "none") return info;
+  c.expectTokens(7, form);
+  for (int i = 0; i < 3; ++i) {
+    info.drag_law.linear(i) = c.real(1 + i);
+    info.drag_law.quadratic(i) = c.real(4 + i);
+  }
+  if ((info.drag_law.linear.array() < 0.0).any() || (info.drag_law.quadratic.array() < 0.0).any())
+    c.fail("drag_law coefficients must be non-negative");
   return info;
 }
 
@@ -320,12 +334,12 @@ TcnFile parseTcnFile(const std::string& text, const std::string& name) {
   if (c.tokens()[0] != kFormatName) c.fail("not an hdvio TCN weight file (no \"hdvio_tcn\" header)");
   c.expectTokens(2, "hdvio_tcn <version>");
   const long version = c.integer(1, 0, 1000);
-  if (version != kFormatVersion && version != kFormatVersion2) {
+  if (version != kFormatVersion && version != kFormatVersion2 && version != kFormatVersion3) {
     c.fail("unsupported format version " + c.tokens()[1]);
   }
-  const bool v2 = version == kFormatVersion2;
+  const bool v2 = version >= kFormatVersion2;  // the version-2 layout (3 adds the drag law)
   TcnFileInfo info;
-  if (v2) info = readInfo(c);
+  if (v2) info = readInfo(c, version == kFormatVersion3);
 
   TcnArchitecture a;
   a.input_channels = static_cast<int>(keyValue(c, "input_channels", 1, 4096));
@@ -397,7 +411,9 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
                       TcnEncoding encoding) {
   const TcnArchitecture& a = tcn.architecture();
   std::ostringstream os;
-  os << kFormatName << ' ' << (info ? kFormatVersion2 : kFormatVersion) << '\n';
+  const bool with_drag_law = info && info->drag_law.enabled();
+  os << kFormatName << ' '
+     << (with_drag_law ? kFormatVersion3 : info ? kFormatVersion2 : kFormatVersion) << '\n';
   std::istringstream lines(comment);
   for (std::string line; std::getline(lines, line);) os << "# " << line << '\n';
   if (info) {
@@ -409,6 +425,15 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
       os << ' ' << buf;
     }
     os << '\n';
+    if (with_drag_law) {
+      os << "drag_law";
+      for (const Vec3* v : {&info->drag_law.linear, &info->drag_law.quadratic})
+        for (int i = 0; i < 3; ++i) {
+          std::snprintf(buf, sizeof(buf), "%.9g", (*v)(i));
+          os << ' ' << buf;
+        }
+      os << '\n';
+    }
   }
   char rate[32];
   std::snprintf(rate, sizeof(rate), "%.17g", a.sample_rate_hz);

@@ -114,6 +114,36 @@ TEST(DisplacementWeightFile, MalformedVersion2) {
   expectFailure(bin + "end\n", -1, "after \"end\"");
 }
 
+// Version 3: a force network with the drag law it complements; the law reaches the model.
+TEST(ForceWeightFile, Version3CarriesTheDragLaw) {
+  const Tcn tcn = testing::deterministicTcn();
+  TcnFileInfo info;
+  info.drag_law.linear = Vec3(0.3, 0.25, 0.05);
+  info.drag_law.quadratic = Vec3(0.01, 0.0, 0.02);
+  const std::string text = formatTcnFile(tcn, info);
+  EXPECT_EQ(text.rfind("hdvio_tcn 3\n", 0), 0u);
+  EXPECT_NE(text.find("\ndrag_law 0.3 0.25 0.05 0.01 0 0.02\n"), std::string::npos);
+  const TcnFile back = parseTcnFile(text, "v3.tcn");
+  EXPECT_EQ(back.info.drag_law.linear, info.drag_law.linear);
+  EXPECT_EQ(back.info.drag_law.quadratic, info.drag_law.quadratic);
+  expectSameWeights(back.tcn, tcn);
+  const std::string path = tempPath("v3.tcn");
+  saveTcnFile(tcn, info, path);
+  const auto model = ResidualForceModel::load(path, 0.3);
+  EXPECT_EQ(model->dragLaw().linear, info.drag_law.linear);
+  std::remove(path.c_str());
+  // Without a law the file stays version 2, and a version-2 file has no law.
+  const std::string v2 = formatTcnFile(tcn, TcnFileInfo());
+  EXPECT_EQ(v2.rfind("hdvio_tcn 2\n", 0), 0u);
+  EXPECT_FALSE(parseTcnFile(v2, "v2.tcn").info.drag_law.enabled());
+
+  expectFailure(replaced(text, "drag_law 0.3 0.25 0.05 0.01 0 0.02", "drag_law 0.3 -0.25 0.05 0.01 0 0.02"),
+                5, "drag_law coefficients must be non-negative");
+  expectFailure(replaced(text, "drag_law 0.3 0.25 0.05 0.01 0 0.02", "drag_law 0.3 0.25"), 5,
+                "drag_law <dx> <dy> <dz> <cx> <cy> <cz>");
+  expectFailure(replaced(text, "drag_law 0.3 0.25 0.05 0.01 0 0.02\n", ""), 5, "drag_law");
+}
+
 TEST(DisplacementModel, LoadChecksTaskAndSigma) {
   const std::string path = tempPath("model.tcn");
   saveTcnFile(testing::deterministicResidualTcn(), displacementInfo("accel_gyro"), path, "", TcnEncoding::kFloat32);

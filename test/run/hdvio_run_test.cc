@@ -285,6 +285,43 @@ TEST_F(HdvioRun, DragLawIsEvaluatedAtTheEstimatedVelocity) {
   EXPECT_FALSE(fs::exists(dir_ / "o_vid"));
 }
 
+// A hybrid weight file (version 3) brings its drag law; the backend keys may repeat it, not
+// contradict it.
+TEST_F(HdvioRun, HybridWeightFileBringsItsDragLaw) {
+  const std::string weights = (dir_ / "hybrid.tcn").string();
+  learned::TcnFileInfo info;
+  info.drag_law.linear = Vec3(0.3, 0.3, 0.05);
+  info.drag_law.quadratic = Vec3::Constant(0.01);
+  learned::saveTcnFile(learned::testing::deterministicTcn(), info, weights, "hdvio_run test");
+  const std::string rf = "residual_force: {type: tcn, weights: " + weights + "}\n";
+  const std::string same = writeConfig(
+      "hybrid_same.yaml", "method: hdvio\nbackend:\n  drag_linear: [0.3, 0.3, 0.05]\n"
+                          "  drag_quadratic: [0.01, 0.01, 0.01]\n" + rf +
+                          "run: {init_from_groundtruth: true}\n");
+  const std::string plain =
+      writeConfig("hybrid.yaml", "method: hdvio\n" + rf + "run: {init_from_groundtruth: true}\n");
+  const Outcome a = run("--config " + same + " --dataset " + (dir_ / "seq").string() + " --out " +
+                        (dir_ / "o_same").string() + " --evaluate=false");
+  const Outcome b = run("--config " + plain + " --dataset " + (dir_ / "seq").string() + " --out " +
+                        (dir_ / "o_plain").string() + " --evaluate=false");
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  // Same law either way: the same estimate (to round-off), and the law is in the model force.
+  const auto va = readForceCsv(dir_ / "o_same" / "stamped_velocity_estimate.csv");
+  const auto vb = readForceCsv(dir_ / "o_plain" / "stamped_velocity_estimate.csv");
+  ASSERT_GT(va.size(), 40u);
+  ASSERT_EQ(va.size(), vb.size());
+  for (std::size_t k = 0; k < va.size(); ++k) EXPECT_LT((va[k].second - vb[k].second).norm(), 1e-6) << k;
+  const std::string other = writeConfig(
+      "hybrid_other.yaml", "method: hdvio\nbackend:\n  drag_linear: [0.2, 0.3, 0.05]\n" + rf);
+  const Outcome c = run("--config " + other + " --dataset " + (dir_ / "seq").string() + " --out " +
+                        (dir_ / "o_other").string());
+  EXPECT_EQ(c.exit_code, 2);
+  EXPECT_NE(c.output.find("hybrid_other.yaml: backend.drag_linear / drag_quadratic differ from the drag law"),
+            std::string::npos) << c.output;
+  EXPECT_FALSE(fs::exists(dir_ / "o_other"));
+}
+
 TEST_F(HdvioRun, BadExperimentsAndMissingSensorsAreClearErrors) {
   const std::string seq = (dir_ / "seq").string();
   const std::string typo = writeConfig("typo.yaml", "method: vio\nbackend:\n  num_keyframe: 10\n");

@@ -46,6 +46,7 @@ class VisualPipeline : public MethodPipeline {
         ground_truth_residual_ = true;
       } else {
         provider_ = learned::makeResidualForceProvider(rf, file.dir);
+        adoptDragLaw(provider_->dragLaw(), file.path);
       }
     }
   }
@@ -128,6 +129,19 @@ class VisualPipeline : public MethodPipeline {
       out.push_back(forces.empty() ? Vec3::Zero() : learned::residualForceAt(forces, s.t));
     }
     return out;
+  }
+
+  // A network trained on what a drag law leaves (weight file version 3) brings the law: the
+  // dynamics add it at the state's velocity. backend.drag_* may repeat it, not contradict it.
+  void adoptDragLaw(const DragLaw& law, const std::string& config_path) {
+    if (!law.enabled()) return;
+    DragLaw& drag = options_.dynamics.drag;
+    if (drag.enabled() && (!drag.linear.isApprox(law.linear, 1e-6) ||
+                           !drag.quadratic.isApprox(law.quadratic, 1e-6)))
+      throw InputError(config_path, 0,
+                       "backend.drag_linear / drag_quadratic differ from the drag law the "
+                       "residual-force network was trained with (its weight file)");
+    drag = law;
   }
 
   VioMethod method_;

@@ -1,5 +1,6 @@
 // hdvio_force_eval: force RMSE (HDVIO Table I) of the thrust model alone, thrust + learned
-// residual (Eigen inference) and, for NeuroBEM files, the NeuroBEM model's own prediction,
+// residual (Eigen inference; for a hybrid weight file also its drag law at the ground-truth
+// velocity) and, for NeuroBEM files, the NeuroBEM model's own prediction,
 // against the measured total force mass * specific force, in the body frame.
 #include <cstdio>
 #include <fstream>
@@ -69,8 +70,13 @@ int main(int argc, char** argv) {
       throw hdvio::InputError("", 0, "need 0 <= --begin_fraction < --end_fraction <= 1");
     }
     std::optional<hdvio::learned::Tcn> tcn;
+    hdvio::DragLaw drag;  // a version-3 file's law: the model is law + TCN
     if (!FLAGS_weights.empty()) {
-      tcn = hdvio::learned::loadTcnWeights(FLAGS_weights);
+      hdvio::learned::TcnFile file = hdvio::learned::loadTcnFile(FLAGS_weights);
+      if (file.info.task != "force")
+        throw hdvio::InputError(FLAGS_weights, 0, "not a residual-force network (task '" + file.info.task + "')");
+      tcn = std::move(file.tcn);
+      drag = file.info.drag_law;
       if (std::abs(tcn->architecture().sample_rate_hz - FLAGS_rate_hz) > 1e-6) {
         throw hdvio::InputError(FLAGS_weights, 0, "network rate differs from --rate_hz");
       }
@@ -111,7 +117,8 @@ int main(int argc, char** argv) {
       for (std::size_t k = k0; k < k1; ++k) {
         s.measured.push_back(f.force[k]);
         s.thrust.push_back(f.thrust[k]);
-        const Vec3 r = tcn ? Vec3(residual.col(k).head<3>().cast<double>()) : Vec3::Zero();
+        Vec3 r = tcn ? Vec3(residual.col(k).head<3>().cast<double>()) : Vec3::Zero();
+        if (drag.enabled()) r += drag.force(f.q_WB[k].conjugate() * f.v_W[k]);  // at the true velocity
         s.tcn.push_back(f.thrust[k] + r);
         if (neurobem) s.neurobem.push_back(neuroBemAt(nb, f.t[k]) / mass);
         if (csv.is_open()) {

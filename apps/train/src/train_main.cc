@@ -40,12 +40,17 @@ Vec3 readDragCoefficients(const ConfigReader& m, const std::string& key) {
   return Vec3(c[0], c[1], c[2]);
 }
 
-learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag) {
+learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag, bool* fit_drag) {
   learned::TcnArchitecture a;
   train::readTcnShape(m, &a);
   m.readOptional("variance_head", &a.variance_head);
-  drag->linear = readDragCoefficients(m, "drag_linear");
-  drag->quadratic = readDragCoefficients(m, "drag_quadratic");
+  std::string law = "none";
+  m.readChoice("drag_law", &law, {"none", "fit", "given"});
+  *fit_drag = law == "fit";
+  if (law == "given") {
+    drag->linear = readDragCoefficients(m, "drag_linear");
+    drag->quadratic = readDragCoefficients(m, "drag_quadratic");
+  }
   m.finish();
   train::validateTcnShape(m, a);
   return a;
@@ -59,6 +64,22 @@ learned::TrainOptions readTraining(const ConfigReader& t) {
   t.readInRange("variance_weight", &o.variance_weight, 0.0, 100.0);
   t.finish();
   return o;
+}
+
+// Least squares on every sample of the training flights: the mass-normalized force beyond the
+// thrust (accelerometer minus its known bias, minus thrust) against the body velocity.
+DragLaw fitDragLawOn(const std::vector<learned::FlightSamples>& flights) {
+  std::vector<Vec3> u, f;
+  for (const auto& fl : flights) {
+    if (fl.force.size() != fl.size())
+      throw InputError(fl.name, 0, "model.drag_law: fit needs the flight's IMU");
+    for (std::size_t k = 0; k < fl.size(); ++k) {
+      u.push_back(fl.q_WB[k].conjugate() * fl.v_W[k]);
+      f.push_back(fl.force[k] - fl.thrust[k]);
+    }
+  }
+  if (u.size() < 100) throw InputError("", 0, "model.drag_law: fit needs at least 100 samples");
+  return fitDragLaw(u, f);
 }
 
 }  // namespace
@@ -86,9 +107,9 @@ int main(int argc, char** argv) {
     data.readInRange("mass", &mass, 0.0, 1000.0);
     data.finish();
     DragLaw drag;
-    const learned::TcnArchitecture arch = readModel(config.section("model"), &drag);
+    bool fit_drag = false;
+    const learned::TcnArchitecture arch = readModel(config.section("model"), &drag, &fit_drag);
     learned::TrainOptions options = readTraining(config.section("training"));
-    options.drag = drag;
     config.finish();
     if (train_paths.empty()) throw InputError(FLAGS_config, 0, "data.train lists no flights");
     if (validation_paths.empty() && validation_every < 2) {
@@ -115,20 +136,28 @@ int main(int argc, char** argv) {
     }
     for (const auto& p : validation_paths) validation_flights.push_back(train::loadFlight(p, source));
 
+    if (fit_drag) drag = fitDragLawOn(train_flights);
+    if (drag.enabled())
+      std::cout << "drag law: linear " << vecString(drag.linear) << " quadratic "
+                << vecString(drag.quadratic) << (fit_drag ? " (fitted on the training part)" : "")
+                << "\n";
+    options.drag = drag;
     learned::Trainer trainer(arch, options);
     const learned::TrainingResult result = trainer.train(train_flights, validation_flights, std::cout);
     const auto& first = result.history.front();
     const auto& best = result.history[result.best_epoch];
     std::cout << "best epoch " << result.best_epoch << ": validation loss " << first.validation_loss
               << " -> " << best.validation_loss << "\n";
-    saveTcnWeights(result.best, FLAGS_out,
-                   "trained by hdvio_train --config " + FLAGS_config + "\nbest epoch " +
-                       std::to_string(result.best_epoch) + ", validation loss " +
-                       std::to_string(best.validation_loss) +
-                       (drag.enabled() ? "\nresidual of the drag law linear " + vecString(drag.linear) +
-                                             " quadratic " + vecString(drag.quadratic) +
-                                             " (hdvio_run: backend.drag_linear / drag_quadratic)"
-                                       : std::string()));
+    const std::string comment = "trained by hdvio_train --config " + FLAGS_config +
+                                "\nbest epoch " + std::to_string(result.best_epoch) +
+                                ", validation loss " + std::to_string(best.validation_loss);
+    if (drag.enabled()) {  // version 3: the file carries the law
+      learned::TcnFileInfo info;
+      info.drag_law = drag;
+      saveTcnFile(result.best, info, FLAGS_out, comment);
+    } else {
+      saveTcnWeights(result.best, FLAGS_out, comment);
+    }
     std::cout << "wrote " << FLAGS_out << "\n";
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << std::endl;

@@ -1,7 +1,6 @@
 #include "hdvio/backend/imo/drag_model.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -82,45 +81,16 @@ DragFit fitDragModel(const std::vector<DragSample>& samples, bool fit_thrust_sca
 DragLawFit fitDragLaw(const std::vector<DragSample>& samples, double thrust_scale) {
   if (samples.size() < 100)
     throw InputError("", 0, "drag fit: fewer than 100 samples with thrust and ground truth");
-  // Per axis a, unknowns [d_a, c_a]: f_a - k T_a = -d_a u_a - c_a |u| u_a.
-  std::array<Eigen::Matrix2d, 3> N;
-  std::array<Eigen::Vector2d, 3> b;
-  for (int a = 0; a < 3; ++a) N[a].setZero(), b[a].setZero();
+  std::vector<Vec3> u, f;
   for (const DragSample& s : samples) {
-    const Vec3& u = s.velocity_body;
-    for (int a = 0; a < 3; ++a) {
-      const Eigen::Vector2d row(-u(a), -u.norm() * u(a));
-      N[a] += row * row.transpose();
-      b[a] += row * (s.specific_force(a) - thrust_scale * s.thrust(a));
-    }
+    u.push_back(s.velocity_body);
+    f.push_back(s.specific_force - thrust_scale * s.thrust);
   }
   DragLawFit fit;
-  for (int a = 0; a < 3; ++a) {
-    // Non-negative least squares in two unknowns: the best feasible of the unconstrained
-    // solution and the three boundary ones (a flight that barely excites an axis can otherwise
-    // give a negative, unphysical coefficient).
-    const Eigen::Matrix2d& Na = N[a];
-    const Eigen::Vector2d& ba = b[a];
-    const Eigen::Vector2d candidates[4] = {
-        Na.ldlt().solve(ba),
-        Eigen::Vector2d(Na(0, 0) > 0.0 ? ba(0) / Na(0, 0) : 0.0, 0.0),
-        Eigen::Vector2d(0.0, Na(1, 1) > 0.0 ? ba(1) / Na(1, 1) : 0.0),
-        Eigen::Vector2d::Zero()};
-    Eigen::Vector2d best = Eigen::Vector2d::Zero();
-    double best_cost = 0.0;  // cost of x = 0
-    for (const Eigen::Vector2d& x : candidates) {
-      if ((x.array() < 0.0).any() || !x.allFinite()) continue;
-      const double cost = x.dot(Na * x) - 2.0 * ba.dot(x);
-      if (cost < best_cost) best_cost = cost, best = x;
-    }
-    fit.law.linear(a) = best(0);
-    fit.law.quadratic(a) = best(1);
-  }
+  fit.law = hdvio::fitDragLaw(u, f);
   Vec3 sum_sq = Vec3::Zero();
-  for (const DragSample& s : samples) {
-    const Vec3 r = s.R * (s.specific_force - thrust_scale * s.thrust - fit.law.force(s.velocity_body));
-    sum_sq += r.cwiseAbs2();
-  }
+  for (std::size_t k = 0; k < samples.size(); ++k)
+    sum_sq += (samples[k].R * (f[k] - fit.law.force(u[k]))).cwiseAbs2();
   fit.rms = (sum_sq / static_cast<double>(samples.size())).cwiseSqrt();
   return fit;
 }

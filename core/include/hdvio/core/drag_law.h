@@ -4,6 +4,8 @@
 // Faessler et al. RA-L 2018) and C (parasitic body drag, 1/m). Shared by the dynamics factor
 // (evaluated at the estimated velocity) and the residual-force trainer (which learns what it
 // leaves, at the ground-truth velocity).
+#include <vector>
+
 #include "hdvio/core/lie.h"
 
 namespace hdvio {
@@ -25,5 +27,12 @@ struct DragLaw {
     return -J;
   }
 };
+
+// Fits D and C (non-negative, per axis, least squares) to force samples f_k ~ drag(u_k):
+// body-frame velocities u_k and the mass-normalized force the law should explain (specific
+// force minus thrust). Non-negative because a flight that barely excites an axis can
+// otherwise give an unphysical negative coefficient. Throws std::invalid_argument if the
+// vectors differ in length or hold fewer than 100 samples.
+DragLaw fitDragLaw(const std::vector<Vec3>& u_body, const std::vector<Vec3>& force);
 
 }  // namespace hdvio

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "hdvio/core/drag_law.h"
 #include "hdvio/core/lie.h"
 #include "hdvio/core/time.h"
 #include "hdvio/learned/tcn.h"
@@ -27,13 +28,16 @@ struct ResidualForcePrediction {
 
 class ResidualForceModel {
  public:
-  // Without a variance head, every prediction gets covariance default_sigma^2 * I.
-  ResidualForceModel(Tcn tcn, double default_sigma);
+  // Without a variance head, every prediction gets covariance default_sigma^2 * I. drag_law:
+  // the law the network was trained to complement (weight file version 3), none by default.
+  ResidualForceModel(Tcn tcn, double default_sigma, DragLaw drag_law = {});
   // Loads a weight file (tcn_weight_file.h); throws InputError on a bad file.
   static std::shared_ptr<const ResidualForceModel> load(const std::string& path,
                                                         double default_sigma);
 
   const Tcn& tcn() const { return tcn_; }
+  // The dynamics must add this law at the state's velocity (hybrid model); zero if none.
+  const DragLaw& dragLaw() const { return drag_law_; }
   int window() const { return tcn_.architecture().window; }
   double sampleRateHz() const { return tcn_.architecture().sample_rate_hz; }
   double windowSeconds() const { return (window() - 1) / sampleRateHz(); }
@@ -52,6 +56,7 @@ class ResidualForceModel {
  private:
   Tcn tcn_;
   double default_sigma_;
+  DragLaw drag_law_;
 };
 
 // Time-ordered interpolation used by windowEndingAt (exposed for tests and tools).

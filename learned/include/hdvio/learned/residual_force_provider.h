@@ -32,6 +32,9 @@ class ResidualForceProvider {
   virtual std::vector<ResidualForce> residualForces(const std::vector<DynamicsInput>& samples,
                                                     Timestamp t_i, Timestamp t_j,
                                                     const Vec3& gyro_bias) const = 0;
+  // The drag law the provider's forces complement (the dynamics add it at the state's
+  // velocity); none by default.
+  virtual DragLaw dragLaw() const { return {}; }
 };
 
 // VIMO: no learned force; zero force with zero covariance.
@@ -54,6 +57,7 @@ class TcnResidualForceProvider final : public ResidualForceProvider {
                                             Timestamp t_i, Timestamp t_j,
                                             const Vec3& gyro_bias) const override;
   const ResidualForceModel& model() const { return *model_; }
+  DragLaw dragLaw() const override { return model_->dragLaw(); }
 
  private:
   std::shared_ptr<const ResidualForceModel> model_;

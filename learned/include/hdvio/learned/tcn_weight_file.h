@@ -25,12 +25,17 @@
 // skip<l>.weight (out x in) and skip<l>.bias. With float32 encoding the tensors (same order,
 // row-major) follow as "data <count>" + '\n' + count little-endian float32 + '\n' + "end".
 //
+// Version 3 (a force network trained on what a drag law leaves, core/drag_law.h) is version 2
+// with "drag_law <dx> <dy> <dz> <cx> <cy> <cz>" (or "drag_law none") after output_sigma;
+// written only when the info holds a law.
+//
 // Blank lines and lines starting with '#' are ignored. Any other deviation (missing or extra
 // tensor, wrong shape, unparsable or non-finite number, data after "end") is an InputError
 // naming the file and the line.
 #include <string>
 #include <vector>
 
+#include "hdvio/core/drag_law.h"
 #include "hdvio/learned/tcn.h"
 
 namespace hdvio::learned {
@@ -40,6 +45,7 @@ struct TcnFileInfo {
   std::string task = "force";          // "force" (residual force) | "displacement" (IMO/TLIO)
   std::string inputs = "thrust_gyro";  // "thrust_gyro" | "accel_gyro"
   std::vector<double> output_sigma;    // empty or 3 positive values (output units)
+  DragLaw drag_law;                    // force networks: the law they complement (none: zero)
 };
 
 enum class TcnEncoding { kText, kFloat32 };
@@ -49,10 +55,10 @@ struct TcnFile {
   TcnFileInfo info;
 };
 
-// Versions 1 and 2. Version 1 files get the default info.
+// Versions 1 to 3. Version 1 files get the default info.
 TcnFile loadTcnFile(const std::string& path);
 TcnFile parseTcnFile(const std::string& text, const std::string& name);
-// Always version 2.
+// Version 2, or 3 when info holds a drag law.
 std::string formatTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& comment = "",
                           TcnEncoding encoding = TcnEncoding::kText);
 void saveTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& path,
