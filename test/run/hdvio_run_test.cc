@@ -45,6 +45,26 @@ std::vector<std::pair<long long, Vec3>> readForceCsv(const fs::path& path) {
   }
   return rows;
 }
+// force_groundtruth0/data.csv rows: stamp, external force and drag (body frame).
+struct ForceTruth {
+  long long t;
+  Vec3 external, drag;
+};
+std::vector<ForceTruth> readForceTruth(const fs::path& path) {
+  std::vector<ForceTruth> rows;
+  std::ifstream f(path);
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream ss(line);
+    ForceTruth r{};
+    if (ss >> r.t >> r.external.x() >> r.external.y() >> r.external.z() >> r.drag.x() >> r.drag.y() >> r.drag.z())
+      rows.push_back(r);
+  }
+  return rows;
+}
+
 Outcome run(const std::string& args) {
   return test::runCommand(std::string(HDVIO_RUN_BINARY) + " " + args);
 }
@@ -150,20 +170,9 @@ TEST_F(HdvioRun, GroundTruthResidualForceIsTheTrueDragAndNeedsIt) {
   Outcome o = run("--config " + cfg + " --dataset " + (dir_ / "seq").string() + " --out " +
                   out.string() + " --evaluate=false");
   ASSERT_EQ(o.exit_code, 0) << o.output;
-  std::vector<std::pair<long long, Vec3>> drag;  // force_groundtruth0: t, f_ext xyz, f_drag xyz
-  {
-    std::ifstream f(dir_ / "seq" / "mav0" / "force_groundtruth0" / "data.csv");
-    std::string line;
-    while (std::getline(f, line)) {
-      if (line.empty() || line[0] == '#') continue;
-      std::replace(line.begin(), line.end(), ',', ' ');
-      std::istringstream ss(line);
-      long long t = 0;
-      double e[3], d[3];
-      ss >> t >> e[0] >> e[1] >> e[2] >> d[0] >> d[1] >> d[2];
-      if (ss) drag.push_back({t, Vec3(d[0], d[1], d[2])});
-    }
-  }
+  std::vector<std::pair<long long, Vec3>> drag;  // the simulator's drag
+  for (const ForceTruth& r : readForceTruth(dir_ / "seq" / "mav0" / "force_groundtruth0" / "data.csv"))
+    drag.push_back({r.t, r.drag});
   ASSERT_GT(drag.size(), 100u);
   const auto res = readForceCsv(out / "stamped_residual_force_estimate.csv");
   ASSERT_GT(res.size(), 40u);
@@ -230,16 +239,8 @@ TEST_F(HdvioRun, DragLawIsEvaluatedAtTheEstimatedVelocity) {
   // The total non-thrust force (law + external) against the simulator's (external + drag at
   // the airspeed: the wind is left to the external force), nearest ground-truth sample.
   std::vector<std::pair<long long, Vec3>> truth;
-  std::ifstream f(dir_ / "seq" / "mav0" / "force_groundtruth0" / "data.csv");
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream ss(line);
-    long long t = 0;
-    double e[3], d[3];
-    if (ss >> t >> e[0] >> e[1] >> e[2] >> d[0] >> d[1] >> d[2])
-      truth.push_back({t, Vec3(e[0] + d[0], e[1] + d[1], e[2] + d[2])});
-  }
+  for (const ForceTruth& r : readForceTruth(dir_ / "seq" / "mav0" / "force_groundtruth0" / "data.csv"))
+    truth.push_back({r.t, r.external + r.drag});
   const auto total = readForceCsv(out / "stamped_total_force_estimate.csv");
   ASSERT_EQ(total.size(), res.size());
   double err2 = 0.0, true2 = 0.0, law_only2 = 0.0;

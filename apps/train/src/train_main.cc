@@ -29,9 +29,9 @@ std::string vecString(const Vec3& v) {
   return buf;
 }
 
-// A drag law (core/drag_law.h) given here is the physics part of the hybrid model: the network
-// then learns what it leaves, and hdvio_run needs the same law as backend.drag_linear /
-// drag_quadratic.
+// model.drag_law: none | fit | given (then drag_linear, drag_quadratic). The law
+// (core/drag_law.h) is the physics part of the hybrid model: the network learns what it leaves,
+// and the weight file (version 3) carries the law to hdvio_run.
 Vec3 readDragCoefficients(const ConfigReader& m, const std::string& key) {
   std::vector<double> c{0.0, 0.0, 0.0};
   m.readVector(key, &c, 3);
