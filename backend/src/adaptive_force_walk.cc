@@ -36,9 +36,10 @@ double AdaptiveForceWalk::update(const Vec3& f_W, double dt) {
     span += a.span + b.span;  // the q coefficient summed over the three axes
   }
   // Until warmup_s of blocks are in, the evidence of calm air is thin: stay at max (as vio would).
-  const std::size_t warmup_blocks =
-      std::min(max_blocks, static_cast<std::size_t>(std::lround(options_.warmup_s / options_.block_s)) + 1);
-  if (blocks_.size() >= warmup_blocks)
+  // At least two blocks (one increment) in any case.
+  const std::size_t warmup_blocks = std::clamp<std::size_t>(
+      static_cast<std::size_t>(std::lround(options_.warmup_s / options_.block_s)) + 1, 2, max_blocks);
+  if (blocks_.size() >= warmup_blocks && span > 0.0)
     walk_ = std::clamp(std::sqrt(std::max(excess / span, 0.0)), floor_, options_.max);
   return walk_;
 }

@@ -70,6 +70,18 @@ TEST(AdaptiveForceWalk, RandomWalkForceIsEstimated) {
   }
 }
 
+TEST(AdaptiveForceWalk, NoWarmupStillNeedsOneIncrement) {
+  AdaptiveForceWalk walk(AdaptiveForceWalkOptions{true, 5.0, 0.5, 4.0, 0.0}, kFloor, kAccelNoise);
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(walk.update(Vec3(1.0, 0.0, 0.0), kDt), 5.0) << k;
+  for (int k = 0; k < 10; ++k) {
+    const double w = walk.update(Vec3(1.0, 0.0, 0.0), kDt);
+    EXPECT_TRUE(std::isfinite(w));
+    if (k == 9) {
+      EXPECT_EQ(w, kFloor);  // the second block: one increment, no change
+    }
+  }
+}
+
 TEST(AdaptiveForceWalk, RejectsInconsistentOptions) {
   EXPECT_THROW(AdaptiveForceWalk(AdaptiveForceWalkOptions{true, 0.01, 0.5, 4.0, 1.0}, 0.02, 0.02),
                std::invalid_argument);
