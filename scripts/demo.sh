@@ -45,11 +45,11 @@ step "simulating the training flight and the test flight"
 "$bin/sim/hdvio_sim" --config config/sim/demo.yaml --out "$out/sequence"
 "$bin/tools/hdvio_info" "$out/sequence"
 
-step "training the residual-force model on the training flight"
+step "training the residual-force model (drag law + TCN on the rest) on the training flight"
 "$bin/train/hdvio_train" --config config/learned/sim_demo_train.yaml --data_root "$out" \
   --out "$out/model/residual_force.tcn" | tee "$out/model/training.log"
 
-step "force prediction on the test flight (never trained on): thrust alone vs thrust + TCN"
+step "force prediction on the test flight (never trained on): thrust alone vs thrust + model"
 "$bin/train/hdvio_force_eval" --data_root "$out" --data sequence \
   --weights "$out/model/residual_force.tcn" | tee "$out/model/force_eval.md"
 
@@ -77,6 +77,6 @@ echo
 cat "$out/evaluation/table.md"
 echo
 echo "Force columns: each run's total non-thrust force (stamped_total_force_estimate.csv: for vimo"
-echo "and vid their external force, which absorbs all non-thrust force; for hdvio the learned"
-echo "residual plus its external force) against the simulator's drag + external force."
+echo "and vid their external force, which absorbs all non-thrust force; for hdvio its model's"
+echo "force (drag law + TCN) plus its external force) against the simulator's drag + external force."
 step "done: results, table and figures in $out/ (evaluation/table.md, evaluation/*.png)"

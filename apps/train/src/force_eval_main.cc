@@ -71,12 +71,14 @@ int main(int argc, char** argv) {
     }
     std::optional<hdvio::learned::Tcn> tcn;
     hdvio::DragLaw drag;  // a version-3 file's law: the model is law + TCN
+    const char* model_label = "thrust + TCN residual";
     if (!FLAGS_weights.empty()) {
       hdvio::learned::TcnFile file = hdvio::learned::loadTcnFile(FLAGS_weights);
       if (file.info.task != "force")
         throw hdvio::InputError(FLAGS_weights, 0, "not a residual-force network (task '" + file.info.task + "')");
       tcn = std::move(file.tcn);
       drag = file.info.drag_law;
+      if (drag.enabled()) model_label = "thrust + drag law + TCN";
       if (std::abs(tcn->architecture().sample_rate_hz - FLAGS_rate_hz) > 1e-6) {
         throw hdvio::InputError(FLAGS_weights, 0, "network rate differs from --rate_hz");
       }
@@ -133,7 +135,7 @@ int main(int argc, char** argv) {
                   FLAGS_rate_hz, FLAGS_begin_fraction, FLAGS_end_fraction);
       std::printf("| %-28s | %8s | %8s | %8s |\n|---|---|---|---|\n", "model", "F", "F_xy", "F_z");
       printRow("thrust model", s.thrust, s.measured, mass);
-      if (tcn) printRow("thrust + TCN residual", s.tcn, s.measured, mass);
+      if (tcn) printRow(model_label, s.tcn, s.measured, mass);
       if (neurobem) printRow("NeuroBEM (full state)", s.neurobem, s.measured, mass);
       for (std::vector<Vec3> Series::*v : {&Series::measured, &Series::thrust, &Series::tcn, &Series::neurobem})
         (all.*v).insert((all.*v).end(), (s.*v).begin(), (s.*v).end());
@@ -142,7 +144,7 @@ int main(int argc, char** argv) {
                 FLAGS_mass > 0.0 ? "N" : "m/s^2 (mass-normalized)");
     std::printf("| %-28s | %8s | %8s | %8s |\n|---|---|---|---|\n", "model", "F", "F_xy", "F_z");
     printRow("thrust model", all.thrust, all.measured, mass);
-    if (tcn) printRow("thrust + TCN residual", all.tcn, all.measured, mass);
+    if (tcn) printRow(model_label, all.tcn, all.measured, mass);
     if (all_neurobem) printRow("NeuroBEM (full state)", all.neurobem, all.measured, mass);
   } catch (const hdvio::InputError& e) {
     std::cerr << "error: " << e.what() << std::endl;
