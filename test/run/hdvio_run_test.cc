@@ -281,6 +281,14 @@ TEST_F(HdvioRun, DragLawIsEvaluatedAtTheEstimatedVelocity) {
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find("vid_drag.yaml: key 'backend.drag_linear': vid's force prior"), std::string::npos)
       << bad.output;
+  const std::string truth_and_law = writeConfig(
+      "truth_drag.yaml", "method: hdvio\nbackend:\n  drag_linear: [0.3, 0.3, 0.05]\n"
+                         "residual_force: {type: ground_truth}\n");
+  bad = run("--config " + truth_and_law + " --dataset " + (dir_ / "seq").string() + " --out " +
+            (dir_ / "o_truth").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("ground_truth is the whole drag"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(dir_ / "o_truth"));
   EXPECT_FALSE(fs::exists(dir_ / "o_neg"));
   EXPECT_FALSE(fs::exists(dir_ / "o_max"));
   EXPECT_FALSE(fs::exists(dir_ / "o_vid"));

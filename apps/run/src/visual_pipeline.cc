@@ -43,6 +43,10 @@ class VisualPipeline : public MethodPipeline {
       rf.readChoice("type", &type, {"zero", "tcn", "ground_truth"}, true);
       if (type == "ground_truth") {
         rf.finish();
+        if (options_.dynamics.drag.enabled())  // the true drag already is all of it
+          throw InputError(file.path, 0,
+                           "residual_force type ground_truth is the whole drag; drop "
+                           "backend.drag_linear / drag_quadratic");
         ground_truth_residual_ = true;
       } else {
         provider_ = learned::makeResidualForceProvider(rf, file.dir);

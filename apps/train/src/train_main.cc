@@ -50,6 +50,9 @@ learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag, bool* f
   if (law == "given") {
     drag->linear = readDragCoefficients(m, "drag_linear");
     drag->quadratic = readDragCoefficients(m, "drag_quadratic");
+    if (!drag->enabled())
+      throw InputError(m.file(), 0,
+                       "key 'model.drag_law': given needs non-zero drag_linear or drag_quadratic");
   }
   m.finish();
   train::validateTcnShape(m, a);
