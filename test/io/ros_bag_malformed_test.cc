@@ -77,6 +77,10 @@ TEST_F(BrokenBag, TruncatedAnywhere) {
     expectError(good_.substr(0, cut), "truncated");
   }
   expectError(good_.substr(0, good_.size() - 1), "truncated");
+  // Exactly before the last chunk info record: every record is whole, the count is short.
+  const std::size_t last_info = good_.rfind(std::string("op=") + '\x06');
+  ASSERT_NE(last_info, std::string::npos);
+  expectError(good_.substr(0, last_info - 8), "truncated or inconsistent bag");
   expectError(good_.substr(0, 8), "not a ROS bag");
 }
 

@@ -37,6 +37,11 @@ void lz4Decompress(std::string_view data, std::string* out, const std::string& f
 void decompressChunk(const std::string& compression, std::string_view data, std::uint32_t size,
                      const std::string& name, std::uint64_t chunk_pos, std::string* out) {
   const std::string prefix = "chunk at byte " + std::to_string(chunk_pos) + ": ";
+  // rosbag writes 768 KiB chunks by default; a larger size than this is corruption, and would
+  // otherwise be allocated before decompressing.
+  constexpr std::uint32_t kMaxChunkBytes = 1u << 30;
+  if (size > kMaxChunkBytes)
+    throw InputError(name, 0, prefix + "declares " + std::to_string(size) + " uncompressed bytes (more than 1 GiB)");
   if (compression == "none") {
     out->assign(data);
   } else if (compression == "bz2") {
