@@ -13,6 +13,8 @@
 
 #include "bag_writer.h"
 #include "hdvio/core/sequence.h"
+#include "hdvio/io/asl.h"
+#include "hdvio/io/read_options.h"
 
 namespace hdvio::io::test {
 namespace fs = std::filesystem;
@@ -127,6 +129,21 @@ inline std::string flightBag(const Flight& f, const std::string& compression, co
 
 inline void writeBytes(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// The flight under dir as an ASL folder (dir/asl, which is also the bags' calibration) and
+// the topic map dir/topics.yaml; `options` reads the flight's bags with both.
+struct FlightOnDisk {
+  Flight flight;
+  ReadOptions options;
+};
+inline FlightOnDisk writeFlight(const fs::path& dir) {
+  FlightOnDisk f{makeFlight(dir), {}};
+  writeAsl(f.flight.seq, (dir / "asl").string());
+  writeBytes((dir / "topics.yaml").string(), kTopicMap);
+  f.options.bag_topics = (dir / "topics.yaml").string();
+  f.options.calibration = (dir / "asl/mav0").string();
+  return f;
 }
 
 }  // namespace hdvio::io::test

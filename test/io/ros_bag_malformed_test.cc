@@ -22,17 +22,12 @@ using test::writeBytes;
 class BrokenBag : public ::testing::Test {
  protected:
   void SetUp() override {
-    flight_ = test::makeFlight(dir_.path());
-    writeAsl(flight_.seq, dir_ / "asl");
+    const test::FlightOnDisk f = test::writeFlight(dir_.path());
+    flight_ = f.flight;
+    options_ = f.options;
     good_ = test::flightBag(flight_, "none");
-    writeBytes(dir_ / "topics.yaml", test::kTopicMap);
   }
-  ReadOptions options() const {
-    ReadOptions o;
-    o.bag_topics = dir_ / "topics.yaml";
-    o.calibration = dir_ / "asl/mav0";
-    return o;
-  }
+  ReadOptions options() const { return options_; }
   // Reading `bytes` as a bag must fail naming `file` (default: the bag) and containing `what`.
   void expectError(const std::string& bytes, const std::string& what, const ReadOptions& o,
                    std::string file = "") {
@@ -61,6 +56,7 @@ class BrokenBag : public ::testing::Test {
 
   test::TempDir dir_{"badbag"};
   test::Flight flight_;
+  ReadOptions options_;
   std::string good_;
 };
 

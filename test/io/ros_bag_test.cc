@@ -39,19 +39,15 @@ void expectSamePixels(const Sequence& a, const Sequence& b) {
 class RosBag : public ::testing::Test {
  protected:
   void SetUp() override {
-    flight_ = test::makeFlight(dir_.path());
-    writeAsl(flight_.seq, dir_ / "asl");
+    const test::FlightOnDisk f = test::writeFlight(dir_.path());
+    flight_ = f.flight;
+    options_ = f.options;
     asl_ = readAsl(dir_ / "asl");
-    writeBytes(dir_ / "topics.yaml", test::kTopicMap);
   }
-  ReadOptions bagOptions() const {
-    ReadOptions o;
-    o.bag_topics = dir_ / "topics.yaml";
-    o.calibration = dir_ / "asl/mav0";
-    return o;
-  }
+  ReadOptions bagOptions() const { return options_; }
   test::TempDir dir_{"bag"};
   Flight flight_;
+  ReadOptions options_;
   Sequence asl_;
 };
 
