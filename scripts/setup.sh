@@ -9,6 +9,8 @@ packages=(
   libgoogle-glog-dev libgflags-dev libyaml-cpp-dev
   libopencv-dev
   libhdf5-dev
+  libbz2-dev liblz4-dev
+  python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-pil
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib
 )

@@ -1,5 +1,6 @@
 // hdvio_run: one experiment (YAML) on one sequence (ASL folder or supported flight).
 //   hdvio_run --config config/experiments/vio.yaml --dataset <folder> --out <dir>
+//   hdvio_run --config ... --dataset flight.bag [--topics map.yaml] --calibration <mav0> --out <dir>
 // The experiment's `method` selects a pipeline (apps/run/src/*_pipeline.cc); the config is
 // checked completely before any data is read, the results are written atomically, and a
 // sequence with ground truth is evaluated into <out>/evaluation/.
@@ -19,7 +20,10 @@
 #include "hdvio/run/run_evaluation.h"
 
 DEFINE_string(config, "", "experiment YAML (method and the method's sections)");
-DEFINE_string(dataset, "", "ASL folder or supported flight (Blackbird, DIDO, NeuroBEM)");
+DEFINE_string(dataset, "", "ASL folder or supported flight (Blackbird, DIDO, NeuroBEM, ROS bag)");
+DEFINE_string(topics, "", "ROS bags: topic-map YAML (default: EuRoC topics, docs/datasets.md)");
+DEFINE_string(calibration, "", "ROS bags: folder with cam0/sensor.yaml and imu0/sensor.yaml (e.g. an ASL mav0)");
+
 DEFINE_string(out, "", "output folder (created; an earlier result there is replaced)");
 DEFINE_bool(evaluate, true, "evaluate against the sequence's ground truth into <out>/evaluation");
 DEFINE_bool(plots, true, "with --evaluate: also write figures (needs python3 + matplotlib)");
@@ -48,7 +52,10 @@ int runMain() {
           : run::makeInertialPipeline(method, cfg, file);
   cfg.finish();
 
-  const Sequence seq = io::readSequence(FLAGS_dataset);
+  io::ReadOptions read_options;
+  read_options.bag_topics = FLAGS_topics;
+  read_options.calibration = FLAGS_calibration;
+  const Sequence seq = io::readSequence(FLAGS_dataset, read_options);
   std::fprintf(stderr, "hdvio_run: %s on %s (%zu IMU samples, %zu frames)\n", method.c_str(),
                seq.name.c_str(), seq.imu.size(), seq.images.size());
   run::RunResults results = pipeline->run(seq);

@@ -10,7 +10,10 @@
 #include "hdvio/io/asl.h"
 #include "hdvio/io/sequence_reader.h"
 
-DEFINE_string(input, "", "Blackbird / DIDO folder or data.hdf5, NeuroBEM .csv, or ASL folder");
+DEFINE_string(input, "", "Blackbird / DIDO folder or data.hdf5, NeuroBEM .csv, ROS bag, or ASL folder");
+DEFINE_string(topics, "", "ROS bags: topic-map YAML (default: EuRoC topics, docs/datasets.md)");
+DEFINE_string(calibration, "", "ROS bags: folder with cam0/sensor.yaml and imu0/sensor.yaml (e.g. an ASL mav0)");
+
 DEFINE_string(output, "", "Output ASL folder (must be empty or absent unless --force)");
 DEFINE_bool(force, false, "Replace an existing ASL output folder (one holding only mav0/)");
 DEFINE_double(max_imu_gap_s, 0.05, "Largest allowed spacing of IMU samples [s]");
@@ -20,7 +23,8 @@ DEFINE_double(mass, 0.0, "Vehicle mass [kg] (0: dataset default)");
 namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("hdvio_convert --input <dataset path> --output <asl folder> [--force]");
+  gflags::SetUsageMessage(
+      "hdvio_convert --input <dataset path> [--topics <yaml>] [--calibration <dir>] --output <asl folder> [--force]");
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   if (FLAGS_input.empty() || FLAGS_output.empty() || argc != 1) {
     std::fprintf(stderr, "%s\n", gflags::ProgramUsage());
@@ -49,6 +53,8 @@ int main(int argc, char** argv) {
     options.max_imu_gap_s = FLAGS_max_imu_gap_s;
     if (FLAGS_thrust_coefficient > 0.0) options.thrust_coefficient = FLAGS_thrust_coefficient;
     if (FLAGS_mass > 0.0) options.mass = FLAGS_mass;
+    options.bag_topics = FLAGS_topics;
+    options.calibration = FLAGS_calibration;
     const hdvio::Sequence seq = hdvio::io::readSequence(FLAGS_input, options);  // fully validated first
     if (non_empty) fs::remove_all(out / "mav0");
     hdvio::io::writeAsl(seq, out.string());

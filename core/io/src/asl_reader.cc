@@ -58,7 +58,7 @@ void readCamera(const fs::path& dir, const ReadOptions& options, Sequence* seq) 
     const fs::path image = image_dir / std::string(csv.text(1));
     if (options.check_images_exist && !fs::is_regular_file(image))
       csv.fail("image file does not exist: " + image.string());
-    seq->images.push_back(ImageRef{t, image.lexically_normal().string()});
+    seq->images.push_back(ImageRef{t, image.lexically_normal().string(), std::nullopt});
   });
 }
 
@@ -169,15 +169,7 @@ Sequence readAsl(const std::string& folder, const ReadOptions& options) {
     const fs::path yaml = root / "rotor0" / "sensor.yaml";
     if (fs::exists(yaml)) seq.rotor_calibration = readRotorSensorYaml(yaml.string());
   }
-  if (!seq.rotor.empty() && (options.thrust_coefficient || options.mass)) {
-    RotorCalibration c = seq.rotor_calibration.value_or(RotorCalibration{});
-    if (options.thrust_coefficient) c.thrust_coefficient = *options.thrust_coefficient;
-    if (options.mass) c.mass = *options.mass;
-    if (!(c.thrust_coefficient > 0.0 && c.mass > 0.0))
-      throw InputError((root / "rotor0").string(), 0,
-                       "no sensor.yaml: both a positive thrust coefficient and mass are needed");
-    seq.rotor_calibration = c;
-  }
+  applyRotorOptions(options, (root / "rotor0").string(), &seq);
   const fs::path gt = root / "state_groundtruth_estimate0" / "data.csv";
   if (fs::is_directory(gt.parent_path())) readGroundTruth(gt, &seq);
   if (fs::is_directory(root / "force_groundtruth0")) {

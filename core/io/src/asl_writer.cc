@@ -3,9 +3,12 @@
 #include <filesystem>
 #include <fstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "hdvio/core/error.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/io/csv.h"
+#include "hdvio/io/image.h"
 #include "sensor_yaml.h"
 
 namespace hdvio::io {
@@ -68,13 +71,21 @@ std::string groundTruthCsv(const Sequence& seq) {
   return s;
 }
 
-// Copies images into stage/cam0/data unless they already live in final/cam0/data; returns the
+// Copies images into stage/cam0/data unless they already live in final/cam0/data (images in
+// a container are written out as PNG); returns the
 // cam0/data.csv text.
 std::string stageImages(const Sequence& seq, const fs::path& final_mav0, const fs::path& stage_mav0) {
   const fs::path final_dir = fs::weakly_canonical(final_mav0 / "cam0" / "data");
   std::string s = "#timestamp [ns],filename\n";
   fs::create_directories(stage_mav0 / "cam0" / "data");
   for (const auto& image : seq.images) {
+    if (image.span) {  // inside a container (a ROS bag): decoded and written as a lossless PNG
+      const std::string name = std::to_string(image.t) + ".png";
+      const fs::path dst = stage_mav0 / "cam0" / "data" / name;
+      if (!cv::imwrite(dst.string(), loadImage(image))) throw InputError(dst.string(), 0, "cannot write image");
+      s += std::to_string(image.t) + "," + name + "\n";
+      continue;
+    }
     const fs::path src = fs::weakly_canonical(fs::absolute(image.path));
     if (!fs::is_regular_file(src)) throw InputError(image.path, 0, "image file does not exist");
     std::string name;

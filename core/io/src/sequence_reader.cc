@@ -7,6 +7,7 @@
 #include "hdvio/core/error.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/io/datasets.h"
+#include "hdvio/io/ros_bag.h"
 
 namespace hdvio::io {
 namespace fs = std::filesystem;
@@ -30,6 +31,7 @@ const char* formatName(DatasetFormat format) {
     case DatasetFormat::kBlackbird: return "blackbird";
     case DatasetFormat::kDido: return "dido";
     case DatasetFormat::kNeuroBem: return "neurobem";
+    case DatasetFormat::kRosBag: return "rosbag";
   }
   return "?";
 }
@@ -42,7 +44,9 @@ DatasetFormat detectFormat(const std::string& path) {
     if (fs::exists(p / "data.hdf5")) return detectHdf5(p / "data.hdf5");
     throw InputError(path, 0, "unrecognized dataset folder (expected mav0/, imu0/ or data.hdf5)");
   }
+  if (isRosBag(path)) return DatasetFormat::kRosBag;
   const std::string ext = p.extension().string();
+  if (ext == ".bag") throw InputError(path, 0, "not a ROS bag (no '#ROSBAG V' magic at the start)");
   if (ext == ".hdf5" || ext == ".h5") return detectHdf5(p);
   if (ext == ".csv") {
     std::ifstream in(path);
@@ -51,15 +55,21 @@ DatasetFormat detectFormat(const std::string& path) {
     if (("," + header + ",").find(",mot_1,") != std::string::npos) return DatasetFormat::kNeuroBem;
     throw InputError(path, 1, "unrecognized CSV (a NeuroBEM segment names columns t, ..., mot_1..4)");
   }
-  throw InputError(path, 0, "unrecognized input (expected an ASL folder, a data.hdf5 or a NeuroBEM .csv)");
+  throw InputError(path, 0, "unrecognized input (expected an ASL folder, a data.hdf5, a NeuroBEM .csv or a ROS bag)");
 }
 
 Sequence readSequence(const std::string& path, const ReadOptions& options) {
-  switch (detectFormat(path)) {
+  const DatasetFormat format = detectFormat(path);
+  if (format != DatasetFormat::kRosBag && !options.bag_topics.empty())
+    throw InputError(options.bag_topics, 0, "a topic map applies to ROS bags only, not to " + path);
+  if (format != DatasetFormat::kRosBag && !options.calibration.empty())
+    throw InputError(options.calibration, 0, "a calibration folder applies to ROS bags only, not to " + path);
+  switch (format) {
     case DatasetFormat::kAsl: return readAsl(path, options);
     case DatasetFormat::kBlackbird: return readBlackbird(path, options);
     case DatasetFormat::kDido: return readDido(path, options);
     case DatasetFormat::kNeuroBem: return readNeuroBem(path, options);
+    case DatasetFormat::kRosBag: return readRosBag(path, options);
   }
   throw InputError(path, 0, "unsupported format");
 }

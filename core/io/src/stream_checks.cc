@@ -53,6 +53,16 @@ Quat unitQuaternion(double w, double x, double y, double z, const std::string& f
   return q;
 }
 
+void applyRotorOptions(const ReadOptions& options, const std::string& where, Sequence* seq) {
+  if (seq->rotor.empty() || !(options.thrust_coefficient || options.mass)) return;
+  RotorCalibration c = seq->rotor_calibration.value_or(RotorCalibration{});
+  if (options.thrust_coefficient) c.thrust_coefficient = *options.thrust_coefficient;
+  if (options.mass) c.mass = *options.mass;
+  if (!(c.thrust_coefficient > 0.0 && c.mass > 0.0))
+    throw InputError(where, 0, "no sensor.yaml: both a positive thrust coefficient and mass are needed");
+  seq->rotor_calibration = c;
+}
+
 Pose poseExact(const Quat& q, const Vec3& p) {
   Pose pose;
   pose.q = q;

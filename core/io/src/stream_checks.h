@@ -4,7 +4,9 @@
 
 #include "hdvio/core/error.h"
 #include "hdvio/core/lie.h"
+#include "hdvio/core/sequence.h"
 #include "hdvio/core/time.h"
+#include "hdvio/io/read_options.h"
 
 namespace hdvio::io {
 
@@ -37,6 +39,11 @@ void checkImuGap(Timestamp previous, Timestamp t, double max_gap_s, const std::s
 // quaternions that are already unit to machine precision untouched so that write/read round
 // trips are bit-exact.
 Quat unitQuaternion(double w, double x, double y, double z, const std::string& file, long line);
+
+// With rotor speeds and a thrust coefficient or mass among the options: sets
+// seq->rotor_calibration from its current value (sensor.yaml) overridden by the options, and
+// throws naming `where` unless both end up positive.
+void applyRotorOptions(const ReadOptions& options, const std::string& where, Sequence* seq);
 
 // A Pose whose quaternion is taken as is (already unit), without renormalizing.
 Pose poseExact(const Quat& q, const Vec3& p);

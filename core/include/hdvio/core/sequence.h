@@ -2,6 +2,7 @@
 // The in-memory form of one recorded or simulated flight, in the conventions of FORMATS.md:
 // body frame = IMU frame, world z up, gravity (0, 0, -9.81), Hamilton quaternions, T_BS maps
 // sensor coordinates to body coordinates. Every reader produces this; every tool consumes it.
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -77,10 +78,20 @@ struct RotorCalibration {
   Vec3 thrust_axis = Vec3::UnitZ();  // IMU frame unit vector
 };
 
-// An image listed by the camera file; pixels are loaded on demand by the io library.
+// Where an image message lies inside a container file (a ROS bag): the chunk record starting
+// at byte chunk_pos, and the message bytes [offset, offset + size) of its uncompressed data.
+struct ContainerSpan {
+  std::uint64_t chunk_pos = 0;
+  std::uint64_t offset = 0;
+  std::uint64_t size = 0;
+  bool compressed_image = false;  // sensor_msgs/CompressedImage rather than sensor_msgs/Image
+};
+
+// An image listed by the camera file or the bag; pixels are loaded on demand by the io library.
 struct ImageRef {
   Timestamp t = 0;
-  std::string path;  // absolute or relative to the working directory
+  std::string path;  // image file, or the container file when `span` is set
+  std::optional<ContainerSpan> span;
 };
 
 // A ground-truth pixel observation of a known landmark (simulated sequences only).

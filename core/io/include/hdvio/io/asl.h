@@ -15,7 +15,8 @@ Sequence readAsl(const std::string& folder, const ReadOptions& options = {});
 
 // Writes every present part of the sequence as <out_folder>/mav0/..., with full precision so
 // that readAsl gives back identical samples. Images that are not already inside
-// <out_folder>/mav0/cam0/data/ are copied there as <timestamp><extension>. Files are staged
+// <out_folder>/mav0/cam0/data/ are copied there as <timestamp><extension>; images inside a
+// ROS bag (ImageRef::span) are decoded and written as <timestamp>.png. Files are staged
 // next to the destination and moved into place only once everything was written.
 void writeAsl(const Sequence& sequence, const std::string& out_folder);
 

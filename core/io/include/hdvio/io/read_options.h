@@ -1,6 +1,7 @@
 #pragma once
 // Options shared by every dataset reader.
 #include <optional>
+#include <string>
 
 namespace hdvio::io {
 
@@ -14,6 +15,10 @@ struct ReadOptions {
   // thrust axis. Overrides a rotor0/sensor.yaml value for ASL folders.
   std::optional<double> thrust_coefficient;  // N s^2 rad^-2
   std::optional<double> mass;                // kg; default: the dataset's documented mass
+  // ROS bags only: the topic-map YAML (empty: EuRoC's topic names) and the folder holding
+  // cam0/, imu0/ (and rotor0/) sensor.yaml, e.g. an ASL sequence's mav0 folder.
+  std::string bag_topics;
+  std::string calibration;
 };
 
 }  // namespace hdvio::io

@@ -1,0 +1,230 @@
+// ROS 1 bag -> Sequence: the topic map picks the topics, ros_messages decodes them, the
+// calibration folder adds the sensor.yaml files a bag does not carry.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <vector>
+
+#include "bag_format.h"
+#include "hdvio/core/config.h"
+#include "hdvio/core/error.h"
+#include "hdvio/io/ros_bag.h"
+#include "ros_messages.h"
+#include "sensor_yaml.h"
+#include "stream_checks.h"
+
+namespace hdvio::io {
+namespace fs = std::filesystem;
+namespace {
+
+enum class Role { kImu, kCamera, kRotor, kThrust, kGroundTruth };
+
+struct Stream {
+  Role role;
+  const char* key;  // topic-map key and stream name in errors
+  std::string topic;
+  std::vector<std::string> types;
+};
+
+// One decoded message waiting to be put in time order.
+template <class Sample>
+struct Pending {
+  Timestamp record_time = 0;
+  Sample sample;
+  std::string bytes;  // kept to tell an exact duplicate message from a conflicting one
+};
+
+// An image message: its stamp, size and place in the bag.
+struct BagImage {
+  Timestamp t = 0;
+  ros::ImageHeader header;
+  ContainerSpan span;
+};
+
+std::string joined(const std::vector<std::string>& items) {
+  std::string s;
+  for (const auto& i : items) s += (s.empty() ? "" : ", ") + i;
+  return s;
+}
+
+// Orders one stream by record time (as rosbag plays it), then requires strictly increasing
+// header stamps, dropping exact duplicates with a warning.
+template <class Sample, class Add>
+void emit(std::vector<Pending<Sample>>* pending, const std::string& file, const std::string& topic,
+          Sequence* seq, Add add) {
+  std::stable_sort(pending->begin(), pending->end(),
+                   [](const auto& a, const auto& b) { return a.record_time < b.record_time; });
+  TimeOrder order(file, topic);
+  const std::string* previous = nullptr;
+  for (std::size_t i = 0; i < pending->size(); ++i) {
+    const Pending<Sample>& p = (*pending)[i];
+    bool keep = true;
+    try {
+      keep = order.accept(p.sample.t, previous && !p.bytes.empty() && *previous == p.bytes, 0);
+    } catch (const InputError& e) {
+      throw InputError(file, 0, topic + " message " + std::to_string(i + 1) + " (in record-time order): " + e.problem());
+    }
+    if (keep) add(p.sample, i);
+    previous = &p.bytes;
+  }
+  if (order.duplicates() > 0) seq->warnings.push_back(order.warning());
+}
+
+void readCalibration(const std::string& folder, bool has_images, Sequence* seq) {
+  if (folder.empty()) {
+    if (has_images)
+      throw InputError("--calibration", 0, "the bag holds images but bags carry no calibration: pass "
+                                           "--calibration <folder with cam0/sensor.yaml and imu0/sensor.yaml>");
+    return;
+  }
+  fs::path root = folder;
+  if (!fs::is_directory(root)) throw InputError(folder, 0, "calibration folder does not exist");
+  if (fs::is_directory(root / "mav0")) root /= "mav0";
+  const fs::path cam = root / "cam0" / "sensor.yaml", imu = root / "imu0" / "sensor.yaml";
+  if (!fs::exists(imu)) throw InputError(imu.string(), 0, "missing IMU calibration file");
+  seq->imu_calibration = readImuSensorYaml(imu.string());
+  if (has_images) {
+    if (!fs::exists(cam)) throw InputError(cam.string(), 0, "missing camera calibration file (the bag holds images)");
+    seq->camera = readCameraSensorYaml(cam.string());
+  }
+  const fs::path rotor = root / "rotor0" / "sensor.yaml";
+  if (fs::exists(rotor)) seq->rotor_calibration = readRotorSensorYaml(rotor.string());
+}
+
+}  // namespace
+
+BagTopicMap readBagTopicMap(const std::string& yaml_path) {
+  const ConfigReader cfg = ConfigReader::fromFile(yaml_path);
+  BagTopicMap map;
+  for (auto [key, topic] : {std::pair<const char*, std::string*>{"imu", &map.imu}, {"camera", &map.camera},
+                            {"rotor_speeds", &map.rotor_speeds}, {"thrust", &map.thrust},
+                            {"groundtruth", &map.groundtruth}}) {
+    if (!cfg.has(key)) continue;
+    cfg.read(key, topic);
+    map.named.insert(key);
+  }
+  std::vector<double> axis = {0.0, 0.0, 1.0};
+  cfg.readVector("thrust_axis", &axis, 3);
+  map.thrust_axis = Vec3(axis[0], axis[1], axis[2]);
+  if (std::abs(map.thrust_axis.norm() - 1.0) > 1e-6) throw InputError(yaml_path, 0, "thrust_axis must be a unit vector");
+  if (map.imu.empty()) throw InputError(yaml_path, 0, "imu: a topic is required");
+  cfg.finish();
+  return map;
+}
+
+bool isRosBag(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[9] = {};
+  return in.read(magic, 9) && std::string(magic, 9) == "#ROSBAG V";
+}
+
+Sequence readRosBag(const std::string& path, const ReadOptions& options) {
+  const BagTopicMap map = options.bag_topics.empty() ? BagTopicMap{} : readBagTopicMap(options.bag_topics);
+  std::vector<Stream> streams = {
+      {Role::kImu, "imu", map.imu, {"sensor_msgs/Imu"}},
+      {Role::kCamera, "camera", map.camera, {"sensor_msgs/Image", "sensor_msgs/CompressedImage"}},
+      {Role::kRotor, "rotor_speeds", map.rotor_speeds, {"mav_msgs/Actuators"}},
+      {Role::kThrust, "thrust", map.thrust, {"geometry_msgs/Vector3Stamped", "agiros_msgs/Command"}},
+      {Role::kGroundTruth, "groundtruth", map.groundtruth,
+       {"geometry_msgs/PoseStamped", "geometry_msgs/TransformStamped", "nav_msgs/Odometry"}}};
+  std::map<std::string, const Stream*> by_topic;
+  for (const Stream& s : streams) {
+    if (s.topic.empty()) continue;
+    if (!by_topic.emplace(s.topic, &s).second)
+      throw InputError(options.bag_topics, 0, "topic " + s.topic + " is mapped to two streams");
+  }
+
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "cannot open bag");
+  std::vector<Pending<ImuSample>> imu;
+  std::vector<Pending<BagImage>> cams;
+  std::vector<Pending<RotorSample>> rotor;
+  std::vector<Pending<ThrustSample>> thrust;
+  std::vector<Pending<GroundTruthState>> groundtruth;
+  std::map<std::string, std::size_t> counts;
+  const bag::BagContents bag = bag::scanBag(in, path, [&](const bag::Message& msg) {
+    const auto it = by_topic.find(msg.connection->topic);
+    if (it == by_topic.end()) return;
+    const Stream& s = *it->second;
+    const std::string& type = msg.connection->type;
+    if (std::find(s.types.begin(), s.types.end(), type) == s.types.end())
+      throw InputError(path, 0, "topic " + s.topic + " (" + s.key + ") has type " + type + ", expected " + joined(s.types));
+    ros::MessageCursor m(msg.data, path, s.topic + " message " + std::to_string(++counts[s.topic]));
+    const std::string bytes(msg.data);
+    switch (s.role) {
+      case Role::kImu: imu.push_back({msg.record_time, ros::decodeImu(m), bytes}); break;
+      case Role::kRotor: rotor.push_back({msg.record_time, ros::decodeActuators(m), bytes}); break;
+      case Role::kThrust:
+        thrust.push_back({msg.record_time,
+                          type == "agiros_msgs/Command" ? ros::decodeAgirosCommand(m, map.thrust_axis)
+                                                        : ros::decodeVector3Stamped(m),
+                          bytes});
+        break;
+      case Role::kGroundTruth: groundtruth.push_back({msg.record_time, ros::decodePose(m, type), bytes}); break;
+      case Role::kCamera: {
+        ContainerSpan span = msg.span;
+        span.compressed_image = type == "sensor_msgs/CompressedImage";
+        const ros::ImageHeader h = ros::decodeImageHeader(m, span.compressed_image);
+        cams.push_back({msg.record_time, BagImage{h.t, h, span}, ""});  // pixels stay in the bag
+        break;
+      }
+    }
+  });
+
+  // Every stream the map names (and the IMU) must be in the bag, with an accepted type even
+  // when it holds no messages.
+  std::vector<std::string> topics;
+  std::map<std::string, std::string> type_of;
+  for (const auto& [id, c] : bag.connections) {
+    topics.push_back(c.topic + " (" + c.type + ")");
+    type_of[c.topic] = c.type;
+  }
+  for (const Stream& s : streams) {
+    if (s.topic.empty()) continue;
+    const auto t = type_of.find(s.topic);
+    if (t == type_of.end()) {
+      if (s.role == Role::kImu || map.named.count(s.key))
+        throw InputError(path, 0, "missing topic " + s.topic + " (" + s.key + "); the bag holds: " + joined(topics));
+      continue;
+    }
+    if (std::find(s.types.begin(), s.types.end(), t->second) == s.types.end())
+      throw InputError(path, 0, "topic " + s.topic + " (" + s.key + ") has type " + t->second + ", expected " + joined(s.types));
+  }
+  if (imu.empty()) throw InputError(path, 0, "no IMU messages on " + map.imu);
+
+  Sequence seq;
+  const fs::path canonical = fs::weakly_canonical(fs::absolute(path));
+  seq.source = canonical.string();
+  seq.name = canonical.stem().string();
+  readCalibration(options.calibration, !cams.empty(), &seq);
+
+  emit(&imu, path, map.imu, &seq, [&](const ImuSample& s, std::size_t i) {
+    if (!seq.imu.empty()) {
+      try {
+        checkImuGap(seq.imu.back().t, s.t, options.max_imu_gap_s, path, 0);
+      } catch (const InputError& e) {
+        throw InputError(path, 0, map.imu + " message " + std::to_string(i + 1) + ": " + e.problem());
+      }
+    }
+    seq.imu.push_back(s);
+  });
+  emit(&cams, path, map.camera, &seq, [&](const BagImage& l, std::size_t i) {
+    const CameraCalibration& c = *seq.camera;
+    if (l.header.width > 0 && (l.header.width != c.width || l.header.height != c.height))
+      throw InputError(path, 0, map.camera + " message " + std::to_string(i + 1) + ": image " +
+                                    std::to_string(l.header.width) + "x" + std::to_string(l.header.height) +
+                                    " does not match the calibration " + std::to_string(c.width) + "x" +
+                                    std::to_string(c.height) + " (cam0/sensor.yaml)");
+    seq.images.push_back(ImageRef{l.t, seq.source, l.span});
+  });
+  emit(&rotor, path, map.rotor_speeds, &seq, [&](const RotorSample& s, std::size_t) { seq.rotor.push_back(s); });
+  emit(&thrust, path, map.thrust, &seq, [&](const ThrustSample& s, std::size_t) { seq.thrust.push_back(s); });
+  emit(&groundtruth, path, map.groundtruth, &seq,
+       [&](const GroundTruthState& s, std::size_t) { seq.groundtruth.push_back(s); });
+
+  applyRotorOptions(options, path, &seq);
+  return seq;
+}
+
+}  // namespace hdvio::io
