@@ -97,6 +97,10 @@ int run() {
       FLAGS_gt, gt_format, FLAGS_force_gt.empty() ? std::nullopt : std::optional<std::string>(FLAGS_force_gt));
   std::vector<Estimate> estimates;
   for (const EstimateSpec& spec : specs) estimates.push_back(loadEstimate(spec, est_format));
+  std::vector<const Trajectory*> read{&gt.trajectory};
+  for (const Estimate& e : estimates) read.push_back(&e.trajectory);
+  for (const Trajectory* traj : read)
+    if (traj->repeated_stamps > 0) std::cerr << repeatedStampsWarning(*traj) << "\n";
   if (FLAGS_association.empty()) {
     bool indexed = !gt.trajectory.has_timestamps;
     for (const auto& e : estimates) indexed = indexed || !e.trajectory.has_timestamps;
