@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/io/sequence_reader.h"
@@ -20,10 +21,12 @@ DEFINE_double(mass, 0.0, "Vehicle mass [kg] (0: dataset default)");
 namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("hdvio_convert --input <dataset path> --output <asl folder> [--force]");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_convert --input <dataset path> --output <asl folder> [--force]\n"
+      "converts any supported dataset to the ASL folder layout\n"
+      "example: hdvio_convert --input ../shared/data/dido/<sequence>/data.hdf5 --output /tmp/dido_asl");
   if (FLAGS_input.empty() || FLAGS_output.empty() || argc != 1) {
-    std::fprintf(stderr, "%s\n", gflags::ProgramUsage());
+    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
     return hdvio::kExitBadInput;
   }
   return hdvio::runTool([&] {
