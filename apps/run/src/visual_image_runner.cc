@@ -124,7 +124,7 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
     double load_ms = 0.0;
     const auto load = [&] {
       const auto t_load = Clock::now();
-      pixels = io::loadImage(ref);
+      pixels = io::loadImage(ref, &*seq.camera);
       load_ms = 1e3 * secondsSince(t_load);
     };
     if (first) {
