@@ -16,6 +16,7 @@
 #include "hdvio/bench/matrix.h"
 #include "hdvio/bench/process_pool.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/eval/report.h"
 #include "hdvio/run/run_evaluation.h"
@@ -221,8 +222,9 @@ int main(int argc, char** argv) {
     for (char* c = argv[i] + 2; *c && *c != '='; ++c)
       if (*c == '-') *c = '_';
   }
-  gflags::SetUsageMessage(
-      "hdvio_bench --matrix <yaml> --out <dir> [--jobs N] [--emit-jobs <file>|-] [--only <substring>]");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_bench --matrix <yaml> --out <dir> [--jobs N] [--emit-jobs <file>|-] [--only <substring>]\n"
+      "runs a matrix of experiments x sequences (x seeds) and evaluates it into one table\n"
+      "example: hdvio_bench --matrix config/bench/ci_tiny.yaml --out /tmp/bench_tiny --jobs 2");
   return hdvio::runTool(hdvio::bench::benchMain);
 }

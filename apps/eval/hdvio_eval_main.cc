@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/eval/estimate_inputs.h"
 #include "hdvio/eval/evaluation.h"
@@ -97,6 +98,10 @@ int run() {
       FLAGS_gt, gt_format, FLAGS_force_gt.empty() ? std::nullopt : std::optional<std::string>(FLAGS_force_gt));
   std::vector<Estimate> estimates;
   for (const EstimateSpec& spec : specs) estimates.push_back(loadEstimate(spec, est_format));
+  std::vector<const Trajectory*> read{&gt.trajectory};
+  for (const Estimate& e : estimates) read.push_back(&e.trajectory);
+  for (const Trajectory* traj : read)
+    if (traj->repeated_stamps > 0) std::cerr << repeatedStampsWarning(*traj) << "\n";
   if (FLAGS_association.empty()) {
     bool indexed = !gt.trajectory.has_timestamps;
     for (const auto& e : estimates) indexed = indexed || !e.trajectory.has_timestamps;
@@ -123,13 +128,12 @@ int run() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage(
-      "trajectory evaluation (evo / rpg toolbox metrics)\n"
-      "  hdvio_eval --gt <file|asl folder> --est name1=path1,name2=path2 [--align posyaw|se3|sim3|none]\n"
-      "             [--out dir [--plots]]");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_eval --gt <file|asl folder> --est name1=path1[,name2=path2...] [--align se3] [--out dir [--plots]]\n"
+      "trajectory evaluation with evo / rpg toolbox metrics (ATE, RPE)\n"
+      "example: hdvio_eval --gt ../shared/data/euroc/V1_01_easy_excerpt --est vio=/tmp/vio --align se3");
   if (FLAGS_gt.empty() || FLAGS_est.empty()) {
-    gflags::ShowUsageWithFlagsRestrict(argv[0], "hdvio_eval_main");
+    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
     std::cerr << "error: --gt and --est are required\n";
     return hdvio::kExitBadInput;
   }

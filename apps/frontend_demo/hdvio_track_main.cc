@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/io/asl.h"
 #include "track_runner.h"
@@ -54,10 +55,12 @@ void writeTrajectory(const hdvio::frontend::TrackRunSummary& s, const std::strin
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("hdvio_track --sequence <ASL folder> [--max_frames N] [--trajectory out.txt]");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_track --sequence <ASL folder> [--max_frames N] [--trajectory out.txt]\n"
+      "runs the semi-direct visual frontend and prints, per image, stage, tracked features and time\n"
+      "example: hdvio_track --sequence ../shared/data/euroc/V1_01_easy_excerpt --max_frames 50");
   if (FLAGS_sequence.empty()) {
-    gflags::ShowUsageWithFlagsRestrict(argv[0], "hdvio_track_main");
+    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
     return hdvio::kExitBadInput;
   }
   return hdvio::runTool([] {

@@ -40,7 +40,7 @@ TrackRunSummary runTracking(const Sequence& seq, const TrackRunOptions& options,
                             : seq.images.size();
   for (std::size_t i = 0; i < n; ++i) {
     const ImageRef& ref = seq.images[i];
-    ImageFrame frame{ref.t, io::loadImage(ref)};
+    ImageFrame frame{ref.t, io::loadImage(ref, &*seq.camera)};
     TrackingPrior prior;
     if (options.gyro_prior && i > 0 && seq.hasImu())
       prior.q_prev_cur = integrateGyro(seq.imu, seq.images[i - 1].t, ref.t);

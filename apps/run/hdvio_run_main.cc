@@ -13,6 +13,7 @@
 
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/io/sequence_reader.h"
 #include "hdvio/run/method_pipeline.h"
@@ -74,7 +75,10 @@ int runMain() {
 }  // namespace hdvio
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("hdvio_run --config <yaml> --dataset <path> --out <dir>");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_run --config <experiment.yaml> --dataset <path> --out <dir>\n"
+      "runs one experiment (VIO, VIMO, VID, HDVIO, IMO, ...) on one sequence; evaluates it when the\n"
+      "sequence has ground truth\n"
+      "example: hdvio_run --config config/experiments/vio.yaml --dataset ../shared/data/euroc/V1_01_easy_excerpt --out /tmp/vio");
   return hdvio::runTool(hdvio::runMain);
 }

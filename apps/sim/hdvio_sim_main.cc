@@ -13,6 +13,7 @@
 
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/sim/simulator.h"
@@ -85,11 +86,13 @@ void runNamingScenario() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("hdvio_sim --config <scenario.yaml> --out <folder> [--overwrite] [--no-images]");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_sim --config <scenario.yaml> --out <folder> [--overwrite] [--no_images]\n"
+      "writes a deterministic synthetic flight as an ASL folder\n"
+      "example: hdvio_sim --config config/sim/ci_tiny.yaml --out /tmp/sim_tiny");
   cv::setNumThreads(1);  // one core by design (benchmarks, shared CI machines)
   if (FLAGS_config.empty() || FLAGS_out.empty() || argc != 1) {
-    std::fprintf(stderr, "%s\n", gflags::ProgramUsage());
+    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
     return hdvio::kExitBadInput;
   }
   return hdvio::runTool([&] {

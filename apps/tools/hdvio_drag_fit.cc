@@ -11,6 +11,7 @@
 
 #include "hdvio/backend/imo/drag_model.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/io/sequence_reader.h"
 
@@ -40,8 +41,10 @@ void printVec(const char* label, const hdvio::Vec3& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("fit the Model-EKF drag model: hdvio_drag_fit --data <flight>[,<flight>...]");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_drag_fit --data <flight>[,<flight>...] [--drag_law]\n"
+      "fits the Model-EKF thrust scale and rotor drag (and the hybrid drag law) on training flights\n"
+      "example: hdvio_drag_fit --data ../shared/data/blackbird/clover_yawForward_maxSpeed5p0/train");
   return hdvio::runTool([] {
     if (FLAGS_data.empty()) throw hdvio::InputError("", 0, "--data is required");
     std::vector<hdvio::imo::DragSample> samples;

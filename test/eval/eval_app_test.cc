@@ -105,6 +105,18 @@ TEST_F(EvalApp, ReproducesEvoReferenceThroughTheTool) {
   EXPECT_NE(r.out.find("| orb | 4541/4541 | 1.3034 |"), std::string::npos) << r.out;
 }
 
+// evo's V1_02 ORB-SLAM estimate repeats 4 stamps: a warning with the count, evo's ATE.
+TEST_F(EvalApp, RepeatedStampsWarnAndMatchEvo) {
+  const std::string dir = std::string(HDVIO_SOURCE_DIR) + "/test/eval/data";
+  const std::string est = dir + "/evo_V102_ORB.txt";
+  const RunResult r = run("--gt " + dir + "/evo_V102_groundtruth_excerpt.csv --est orb=" + est +
+                          " --align se3 --rpe_fractions= --out " + (dir_ / "v102").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + est + ": 4 poses repeat the previous timestamp"), std::string::npos)
+      << r.err;
+  EXPECT_NEAR(jsonRmse(slurp(dir_ / "v102" / "metrics.json"), "ate_translation_m"), 0.09172711520685754, 1e-5);
+}
+
 // Writes gt transformed by a yaw offset + translation, plus a seeded random-walk drift.
 std::string writePerturbed(const Trajectory& gt, const fs::path& path, double yaw, double drift_sigma) {
   std::mt19937 rng(11);

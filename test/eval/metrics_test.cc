@@ -49,6 +49,35 @@ TEST(EvalAssociation, NearestStampWithinToleranceLikeEvo) {
   EXPECT_EQ(p.est.t[0], 104'000'000LL);
 }
 
+// A repeated stamp in the longer trajectory: np.argmin takes the first of the equal stamps,
+// whether the query lies before, on or after them; repeats in the shorter one are each matched.
+TEST(EvalAssociation, RepeatedStampsAreMatchedLikeEvo) {
+  Trajectory ref;
+  ref.push(0, Vec3(0, 0, 0), Mat3::Identity());
+  ref.push(100'000'000LL, Vec3(1, 0, 0), Mat3::Identity());
+  ref.push(100'000'000LL, Vec3(2, 0, 0), Mat3::Identity());
+  ref.push(100'000'000LL, Vec3(3, 0, 0), Mat3::Identity());
+  ref.push(300'000'000LL, Vec3(4, 0, 0), Mat3::Identity());
+  Trajectory est;
+  for (Timestamp t : {97'000'000LL, 100'000'000LL, 103'000'000LL})
+    est.push(t, Vec3::Zero(), Mat3::Identity());
+  const AssociatedPair p = associate(ref, est, AssociationOptions{});
+  ASSERT_EQ(p.ref.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(p.ref.p[i].x(), 1.0) << i;
+  // Each query takes the first pose of the repeat, also when the estimate is the longer one.
+  const AssociatedPair q = associate(est, ref, AssociationOptions{});
+  ASSERT_EQ(q.est.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(q.est.p[i].x(), 1.0) << i;
+  // A repeat in the shorter trajectory: both poses stay, matched to the same pose.
+  Trajectory twice;
+  twice.push(100'000'000LL, Vec3(7, 0, 0), Mat3::Identity());
+  twice.push(100'000'000LL, Vec3(8, 0, 0), Mat3::Identity());
+  const AssociatedPair r = associate(line(10, 1.0), twice, AssociationOptions{});
+  ASSERT_EQ(r.est.size(), 2u);
+  EXPECT_EQ(r.est.p[1].x(), 8.0);
+  EXPECT_EQ(r.ref.t[0], r.ref.t[1]);
+}
+
 TEST(EvalAssociation, TimeOffsetShiftsTheEstimate) {
   Trajectory ref = line(10, 1.0);
   Trajectory est = line(10, 1.0);

@@ -60,12 +60,28 @@ TEST_F(EvalTempFiles, MalformedTumFilesNameTheLine) {
   expectError(write("nan.txt", "# h\n1.0 0 0 0 0 0 0 1\n1.1 nan 0 0 0 0 0 1\n"), 3, "non-finite");
   expectError(write("cols.txt", "1.0 0 0 0 0 0 0 1\n1.1 0 0 0 0 0 1\n"), 2, "expected 8 columns");
   expectError(write("order.txt", "1.0 0 0 0 0 0 0 1\n0.9 0 0 0 0 0 0 1\n"), 2, "not increasing");
-  expectError(write("dup.txt", "1.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n"), 2, "duplicate");
+  expectError(write("back.txt", "1.0 0 0 0 0 0 0 1\n1.0 1 0 0 0 0 0 1\n0.9 0 0 0 0 0 0 1\n"), 3,
+              "not increasing");
   expectError(write("quat.txt", "1.0 0 0 0 0 0 0 2\n"), 1, "unit length");
   expectError(write("word.txt", "1.0 0 0 0 0 0 0 1\n1.1 0 x 0 0 0 0 1\n"), 2, "not a number");
   expectError(write("empty.txt", "# only a header\n"), 0, "no data lines");
   expectError(write("seven.txt", "1 2 3 4 5 6 7\n"), 1, "cannot tell the trajectory format");
   expectError((dir_ / "missing.txt").string(), 0, "no such file");
+}
+
+// evo keeps every pose of a repeated stamp (its readers do not check order); so do we, counted.
+TEST_F(EvalTempFiles, RepeatedStampsAreKeptAndCounted) {
+  const Trajectory tum = readTrajectory(
+      write("dup.txt", "1.0 0 0 0 0 0 0 1\n1.0 1 0 0 0 0 0 1\n1.1 2 0 0 0 0 0 1\n1.1 3 0 0 0 0 0 1\n"));
+  ASSERT_EQ(tum.size(), 4u);
+  EXPECT_EQ(tum.repeated_stamps, 2u);
+  EXPECT_EQ(tum.p[1].x(), 1.0);
+  EXPECT_NE(repeatedStampsWarning(tum).find(": 2 poses repeat the previous timestamp"), std::string::npos);
+  const Trajectory euroc = readTrajectory(write(
+      "dup.csv", "#timestamp [ns],x,y,z,qw,qx,qy,qz\n1000000000000,0,0,0,1,0,0,0\n1000000000000,1,0,0,1,0,0,0\n"));
+  EXPECT_EQ(euroc.repeated_stamps, 1u);
+  EXPECT_EQ(readTrajectory(write("ok.txt", kGoodTum)).repeated_stamps, 0u);
+  EXPECT_EQ(repeatedStampsWarning(readTrajectory(write("ok2.txt", kGoodTum))), "");
 }
 
 TEST_F(EvalTempFiles, MalformedKittiAndEurocFiles) {

@@ -78,7 +78,7 @@ inline Flight makeFlight(const fs::path& dir) {
     const Timestamp t = kT0 + i * 50000000LL + 1;
     const std::string path = (dir / "png" / (std::to_string(t) + ".png")).string();
     cv::imwrite(path, gray);
-    s.images.push_back(ImageRef{t, path, std::nullopt});
+    s.images.push_back(ImageRef{t, path, std::nullopt, {}, 0});
     f.frames.push_back(bgr);
   }
   return f;

@@ -14,7 +14,12 @@ namespace {
 
 std::vector<ImageRef> refs(int n) {
   std::vector<ImageRef> out;
-  for (int i = 0; i < n; ++i) out.push_back({i * 50'000'000LL, "img" + std::to_string(i) + ".png"});
+  for (int i = 0; i < n; ++i) {
+    ImageRef r;
+    r.t = i * 50'000'000LL;
+    r.path = "img" + std::to_string(i) + ".png";
+    out.push_back(r);
+  }
   return out;
 }
 

@@ -12,30 +12,16 @@
 #include "hdvio/io/asl.h"
 #include "hdvio/io/datasets.h"
 #include "hdvio/io/sequence_reader.h"
+#include "euroc_copy.h"
 #include "test_data.h"
 
 namespace hdvio::io {
 namespace {
 namespace fs = std::filesystem;
 
-std::vector<std::string> readLines(const std::string& path) {
-  std::ifstream in(path);
-  std::vector<std::string> lines;
-  for (std::string l; std::getline(in, l);) lines.push_back(l);
-  return lines;
-}
-
-void writeLines(const std::string& path, const std::vector<std::string>& lines, const char* eol = "\n") {
-  std::ofstream out(path, std::ios::trunc | std::ios::binary);
-  for (const auto& l : lines) out << l << eol;
-}
-
-// Line numbers are 1-based as in the error messages.
-void editLine(const std::string& path, int line, const std::string& text) {
-  auto lines = readLines(path);
-  lines.at(line - 1) = text;
-  writeLines(path, lines);
-}
+using test::editLine;
+using test::readLines;
+using test::writeLines;
 
 std::string field(const std::string& line, int i) {
   std::stringstream ss(line);
@@ -49,14 +35,7 @@ class EurocCopy : public ::testing::Test {
  protected:
   void SetUp() override {
     HDVIO_REQUIRE_DATA(test::kEuroc);
-    const fs::path src = fs::path(test::dataPath(test::kEuroc)) / "mav0";
-    for (const char* rel : {"imu0/data.csv", "imu0/sensor.yaml", "cam0/data.csv", "cam0/sensor.yaml",
-                            "state_groundtruth_estimate0/data.csv"}) {
-      fs::create_directories(fs::path(mav0(rel)).parent_path());
-      fs::copy_file(src / rel, mav0(rel));
-      fs::permissions(mav0(rel), fs::perms::owner_read | fs::perms::owner_write);
-    }
-    fs::create_directory_symlink(src / "cam0" / "data", mav0("cam0/data"));
+    test::copyEurocExcerpt(dir_.path() / "seq");
   }
   // Replaces the linked image folder by a folder of per-image links, which a test may edit.
   void linkImagesOneByOne() {

@@ -179,7 +179,7 @@ TEST(WriteAsl, RejectsInconsistentSequencesWithoutPartialOutput) {
   seq.imu.push_back({0, Vec3::Zero(), Vec3(0, 0, 9.81)});
   seq.images.push_back({0, dir / "missing.png", std::nullopt});
   EXPECT_THROW(writeAsl(seq, dir / "nocam"), InputError);  // images without calibration
-  seq.camera = CameraCalibration{Pose(), 10, 10, 10.0, 5, 5, 5, 5, DistortionModel::kNone, {}};
+  seq.camera = CameraCalibration{Pose(), 10, 10, 10.0, 5, 5, 5, 5, DistortionModel::kNone, {}, ""};
   EXPECT_THROW(writeAsl(seq, dir / "noimage"), InputError);  // image file missing
   EXPECT_TRUE(fs::is_empty(dir.path()));  // nothing written, staging folders removed
 }

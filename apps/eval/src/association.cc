@@ -34,6 +34,7 @@ bool nearestIndex(const std::vector<Timestamp>& stamps, Timestamp t, Timestamp m
   } else if (best > 0 && std::llabs(stamps[best - 1] - t) <= std::llabs(stamps[best] - t)) {
     best = best - 1;  // np.argmin returns the first of equal distances
   }
+  while (best > 0 && stamps[best - 1] == stamps[best]) --best;  // ... also of a repeated stamp
   if (std::llabs(stamps[best] - t) > max_diff_ns) return false;
   *index = best;
   return true;

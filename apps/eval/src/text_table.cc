@@ -138,4 +138,14 @@ void requireIncreasing(const std::string& file, const std::vector<Timestamp>& t,
   }
 }
 
+std::size_t requireNonDecreasing(const std::string& file, const std::vector<Timestamp>& t,
+                                 const std::vector<long>& lines) {
+  std::size_t repeated = 0;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    if (t[i] < t[i - 1]) throw InputError(file, lines[i], "timestamps are not increasing");
+    if (t[i] == t[i - 1]) ++repeated;
+  }
+  return repeated;
+}
+
 }  // namespace hdvio::eval

@@ -32,4 +32,11 @@ double Trajectory::pathLength() const {
   return length;
 }
 
+std::string repeatedStampsWarning(const Trajectory& traj) {
+  if (traj.repeated_stamps == 0) return {};
+  const std::size_t n = traj.repeated_stamps;
+  return "warning: " + traj.source + ": " + std::to_string(n) + (n == 1 ? " pose repeats" : " poses repeat") +
+         " the previous timestamp; all kept and associated one by one, as evo does";
+}
+
 }  // namespace hdvio::eval

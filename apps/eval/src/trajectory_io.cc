@@ -88,7 +88,7 @@ Trajectory readTumTrajectory(const std::string& path) {
     traj.push(t, Vec3(f[1], f[2], f[3]), rotationFromQuaternion(path, row.line, f[7], f[4], f[5], f[6]));
     if (columns == 11) traj.v.emplace_back(f[8], f[9], f[10]);
   }
-  requireIncreasing(path, traj.t, lineNumbers(table));
+  traj.repeated_stamps = requireNonDecreasing(path, traj.t, lineNumbers(table));
   return traj;
 }
 
@@ -135,7 +135,7 @@ Trajectory readEurocGroundTruth(const std::string& path) {
     traj.push(t, Vec3(f[1], f[2], f[3]), rotationFromQuaternion(path, row.line, f[4], f[5], f[6], f[7]));
     if (with_velocity) traj.v.emplace_back(f[8], f[9], f[10]);
   }
-  requireIncreasing(path, traj.t, lineNumbers(table));
+  traj.repeated_stamps = requireNonDecreasing(path, traj.t, lineNumbers(table));
   return traj;
 }
 

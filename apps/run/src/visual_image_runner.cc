@@ -117,7 +117,10 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
   Timestamp prev_image_t = 0;
   double backend_s = 0.0;
   // Decoding runs on one I/O thread ahead of the estimator; load_ms is what this thread waited.
-  io::ImagePrefetcher images(seq.images);
+  // Each image is checked against the calibration (size, 8-bit, complete file): exit 2 at the image.
+  const CameraCalibration* camera = &*seq.camera;
+  io::ImagePrefetcher images(seq.images, 4,
+                             [camera](const ImageRef& r) { return io::loadImage(r, camera); });
   for (const ImageRef& ref : seq.images) {
     if (log) progress.update(ref.t);
     feed_until(ref.t);

@@ -208,7 +208,10 @@ void Simulator::renderImages(SimulationResult* result, const std::string& image_
     const std::string path = (fs::path(image_dir) / (std::to_string(ts) + ".png")).string();
     if (!cv::imwrite(path, renderFrame(times[j], static_cast<int>(j)), png))
       throw InputError(path, 0, "cannot write image");
-    result->sequence.images.push_back(ImageRef{ts, path, std::nullopt});
+    ImageRef ref;
+    ref.t = ts;
+    ref.path = path;
+    result->sequence.images.push_back(ref);
   }
 }
 

@@ -10,6 +10,7 @@
 #include <gflags/gflags.h>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/learned/displacement_model.h"
 
@@ -106,7 +107,9 @@ int run() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("time the displacement network\n  hdvio_displacement_bench [--weights m.tcn]");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_displacement_bench [--weights m.tcn]\n"
+      "times the IMO displacement network on one thread\n"
+      "example: hdvio_displacement_bench --weights learned/models/imo_blackbird.tcn");
   return runTool(run);
 }

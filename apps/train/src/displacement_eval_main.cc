@@ -13,6 +13,7 @@
 #include <gflags/gflags.h>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/learned/displacement_examples.h"
 #include "hdvio/learned/displacement_model.h"
@@ -154,10 +155,9 @@ int run() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage(
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_displacement_eval --data_root <dir> --data <flight>[,...] --weights name=m.tcn[,...]\n"
       "displacement RMSE of learned displacement networks vs zero and integrated references\n"
-      "  hdvio_displacement_eval --data_root ../shared/data --data blackbird/clover_yawForward_maxSpeed5p0/val "
-      "--weights imo=imo.tcn,tlio=tlio.tcn");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+      "example: hdvio_displacement_eval --data_root ../shared/data --data blackbird/clover_yawForward_maxSpeed5p0/val --weights imo=learned/models/imo_blackbird.tcn");
   return runTool(run);
 }

@@ -10,6 +10,7 @@
 #include <gflags/gflags.h>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/io/datasets.h"
 #include "hdvio/learned/force_metrics.h"
 #include "hdvio/learned/tcn_weight_file.h"
@@ -56,13 +57,12 @@ void printRow(const char* name, const std::vector<Vec3>& pred, const std::vector
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage(
-      "force RMSE of thrust model, thrust + TCN and NeuroBEM\n"
-      "  hdvio_force_eval --data_root ../shared/data --data neurobem/x.csv --weights m.tcn "
-      "--thrust_coefficient 1.1e-6 --mass 0.772");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_force_eval --data_root <dir> --data <flight> [--weights m.tcn] [--thrust_coefficient C --mass m]\n"
+      "force RMSE of the thrust model, thrust + TCN and NeuroBEM\n"
+      "example: hdvio_force_eval --data_root ../shared/data --data neurobem/x.csv --weights m.tcn --thrust_coefficient 1.1e-6 --mass 0.772");
   if (FLAGS_data.empty()) {
-    gflags::ShowUsageWithFlagsRestrict(argv[0], "force_eval_main");
+    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
     return hdvio::kExitBadInput;
   }
   try {

@@ -9,6 +9,7 @@
 #include <gflags/gflags.h>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/learned/tcn_weight_file.h"
 
 DEFINE_string(weights, "", "TCN weight file (empty: the paper architecture with random weights)");
@@ -24,8 +25,10 @@ double threadCpuMicros() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("time TCN inference\n  hdvio_tcn_bench [--weights m.tcn] [--windows 20000]");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_tcn_bench [--weights m.tcn] [--windows N]\n"
+      "times residual-force TCN inference (one window, and streaming over a flight)\n"
+      "example: hdvio_tcn_bench --windows 20000");
   using namespace hdvio::learned;
   using Clock = std::chrono::steady_clock;
   try {

@@ -6,6 +6,7 @@
 #include <gflags/gflags.h>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/learned/thrust_identification.h"
 #include "hdvio/train/flight_loading.h"
 
@@ -28,12 +29,12 @@ hdvio::Sequence cut(const hdvio::Sequence& s, double begin, double end) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage(
-      "identify the thrust coefficient from flight data\n"
-      "  hdvio_thrust_id --data_root ../shared/data --data neurobem/a.csv,neurobem/b.csv --mass 0.772");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_thrust_id --data_root <dir> --data <flight>[,<flight>...] [--mass m]\n"
+      "identifies the thrust coefficient from rotor speeds and the accelerometer\n"
+      "example: hdvio_thrust_id --data_root ../shared/data --data neurobem/a.csv,neurobem/b.csv --mass 0.772");
   if (FLAGS_data.empty()) {
-    gflags::ShowUsageWithFlagsRestrict(argv[0], "thrust_id_main");
+    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
     return hdvio::kExitBadInput;
   }
   try {

@@ -9,6 +9,7 @@
 
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/torch/displacement_trainer.h"
@@ -114,9 +115,9 @@ int run() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage(
-      "train the IMO / TLIO-style displacement network\n"
-      "  hdvio_train_displacement --config config/learned/imo_blackbird.yaml --out imo.tcn");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_train_displacement --config <train.yaml> --out <weights.tcn>\n"
+      "trains the IMO / TLIO-style displacement network (libtorch)\n"
+      "example: hdvio_train_displacement --config config/learned/imo_blackbird.yaml --out imo.tcn");
   return runTool(run);
 }

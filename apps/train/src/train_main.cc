@@ -9,6 +9,7 @@
 #include "hdvio/core/config.h"
 #include "hdvio/core/drag_law.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/tool_flags.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/torch/trainer.h"
 #include "hdvio/train/flight_loading.h"
@@ -88,10 +89,12 @@ DragLaw fitDragLawOn(const std::vector<learned::FlightSamples>& flights) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage("train the residual-force TCN\n  hdvio_train --config config/learned/train_neurobem.yaml --out neurobem.tcn");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
+  hdvio::parseToolFlags(&argc, &argv, __FILE__,
+      "usage: hdvio_train --config <train.yaml> --out <weights.tcn>\n"
+      "trains the residual-force TCN (libtorch)\n"
+      "example: hdvio_train --config config/learned/train_neurobem.yaml --out neurobem.tcn");
   if (FLAGS_config.empty() || FLAGS_out.empty()) {
-    gflags::ShowUsageWithFlagsRestrict(argv[0], "train_main");
+    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
     return kExitBadInput;
   }
   try {

@@ -58,7 +58,8 @@ void readCamera(const fs::path& dir, const ReadOptions& options, Sequence* seq) 
     const fs::path image = image_dir / std::string(csv.text(1));
     if (options.check_images_exist && !fs::is_regular_file(image))
       csv.fail("image file does not exist: " + image.string());
-    seq->images.push_back(ImageRef{t, image.lexically_normal().string(), std::nullopt});
+    seq->images.push_back(
+        ImageRef{t, image.lexically_normal().string(), std::nullopt, file.string(), csv.line()});
   });
 }
 

@@ -216,7 +216,7 @@ Sequence readRosBag(const std::string& path, const ReadOptions& options) {
                                     std::to_string(l.header.width) + "x" + std::to_string(l.header.height) +
                                     " does not match the calibration " + std::to_string(c.width) + "x" +
                                     std::to_string(c.height) + " (cam0/sensor.yaml)");
-    seq.images.push_back(ImageRef{l.t, seq.source, l.span});
+    seq.images.push_back(ImageRef{l.t, seq.source, l.span, {}, 0});
   });
   emit(&rotor, path, map.rotor_speeds, &seq, [&](const RotorSample& s, std::size_t) { seq.rotor.push_back(s); });
   emit(&thrust, path, map.thrust, &seq, [&](const ThrustSample& s, std::size_t) { seq.thrust.push_back(s); });

@@ -154,6 +154,7 @@ ImuCalibration readImuSensorYaml(const std::string& path) {
 CameraCalibration readCameraSensorYaml(const std::string& path) {
   const SensorYaml y(path);
   CameraCalibration c;
+  c.file = path;
   c.T_BS = y.transform("T_BS");
   c.rate_hz = y.number("rate_hz");
   const std::vector<double> res = y.numbers("resolution", 2);

@@ -60,6 +60,7 @@ struct CameraCalibration {
   double fu = 0.0, fv = 0.0, cu = 0.0, cv = 0.0;
   DistortionModel distortion = DistortionModel::kNone;
   std::vector<double> distortion_coefficients;  // radtan: k1 k2 p1 p2; equidistant: k1..k4
+  std::string file;  // the calibration file it was read from (cam0/sensor.yaml), for messages
 };
 
 struct ImuCalibration {
@@ -92,6 +93,10 @@ struct ImageRef {
   Timestamp t = 0;
   std::string path;  // image file, or the container file when `span` is set
   std::optional<ContainerSpan> span;
+  // The camera file and line that list the image (cam0/data.csv row), for error messages;
+  // empty / 0 when the image did not come from such a file.
+  std::string list_file;
+  long list_line = 0;
 };
 
 // A ground-truth pixel observation of a known landmark (simulated sequences only).

@@ -37,4 +37,10 @@ Timestamp parseNanos(const std::string& file, long line, const std::string& fiel
 void requireIncreasing(const std::string& file, const std::vector<Timestamp>& t,
                        const std::vector<long>& lines);
 
+// Requires stamps that never go backwards and returns how many repeat the previous stamp. Used
+// for trajectories, which evo reads without checking order: it keeps every pose of a repeated
+// stamp (ORB-SLAM writes some twice), while a backwards step is a broken file.
+std::size_t requireNonDecreasing(const std::string& file, const std::vector<Timestamp>& t,
+                                 const std::vector<long>& lines);
+
 }  // namespace hdvio::eval

@@ -17,6 +17,9 @@ struct Trajectory {
   std::vector<Vec3> p;          // position in the world frame, m
   std::vector<Mat3> R;          // orientation of the body in the world
   std::vector<Vec3> v;          // world-frame velocity, m/s: empty or one per pose
+  // Poses whose stamp equals the previous pose's. They are kept and associated one by one, as
+  // evo does; repeatedStampsWarning() says so.
+  std::size_t repeated_stamps = 0;
 
   std::size_t size() const { return p.size(); }
   bool hasVelocity() const { return !v.empty() && v.size() == p.size(); }
@@ -26,6 +29,9 @@ struct Trajectory {
   // Length of the polyline through all positions, m.
   double pathLength() const;
 };
+
+// "warning: <source>: 4 poses repeat the previous timestamp; all kept, as evo does" or empty.
+std::string repeatedStampsWarning(const Trajectory& traj);
 
 // A timestamped 3-vector signal: estimated velocity or force.
 struct VectorSeries {
