@@ -15,28 +15,13 @@
 
 #include <unistd.h>
 
-#include "../common/run_command.h"
+#include "bench_test_helpers.h"
 
 namespace {
 namespace fs = std::filesystem;
 
-using Outcome = hdvio::test::CommandOutcome;
-Outcome runShell(const std::string& cmd) { return hdvio::test::runCommand(cmd); }
-Outcome bench(const std::string& args) { return runShell(std::string(HDVIO_BENCH_BINARY) + " " + args); }
-
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// The number after `"key": ` at or after `from` in a JSON text (this test's files only).
-double jsonNumber(const std::string& json, const std::string& key, std::size_t from = 0) {
-  const std::size_t at = json.find("\"" + key + "\": ", from);
-  if (at == std::string::npos) return NAN;
-  return std::strtod(json.c_str() + at + key.size() + 4, nullptr);
-}
+using namespace hdvio::test;  // bench, runShell, readFile, jsonNumber (bench_test_helpers.h)
+using Outcome = CommandOutcome;
 
 // The table row of a sequence.
 std::string row(const std::string& table, const std::string& sequence) {
@@ -54,8 +39,7 @@ class BenchPeer : public ::testing::Test {
   // One ASL folder (ci_tiny without rendering, plus an empty cam0/data: the fake peer reads no
   // image) and a matrix with a fake, a failing and a missing peer.
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("hdvio_bench_peer_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
+    dir_ = freshTempDir("hdvio_bench_peer_");
     fs::create_directories(dir_ / "peers");
     const Outcome sim = runShell(std::string(HDVIO_SIM_BINARY) + " --config " + kSource +
                                  "/config/sim/ci_tiny.yaml --no_images --out " + seq().string());
