@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hdvio needs. Idempotent: packages already present are skipped.
-# Usage: scripts/setup.sh [--with-torch]   (--with-torch adds libtorch for the trainer)
+# Usage: scripts/setup.sh [--with-torch] [--with-openvins]   (--with-torch adds libtorch for the
+# trainer; --with-openvins the Boost parts the OpenVINS peer of config/bench/sim_images.yaml needs,
+# built by ../shared/peers/openvins/build.sh, see docs/bench.md "Peers")
 set -euo pipefail
 
 packages=(
@@ -17,7 +19,9 @@ packages=(
 for arg in "$@"; do
   case "$arg" in
     --with-torch) packages+=(libtorch-dev) ;;
-    *) echo "setup.sh: unknown argument '$arg' (expected --with-torch)" >&2; exit 2 ;;
+    --with-openvins)
+      packages+=(libboost-system-dev libboost-filesystem-dev libboost-thread-dev libboost-date-time-dev) ;;
+    *) echo "setup.sh: unknown argument '$arg' (expected --with-torch or --with-openvins)" >&2; exit 2 ;;
   esac
 done
 

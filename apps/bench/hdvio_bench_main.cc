@@ -71,9 +71,27 @@ Command simCommand(const MatrixSequence& q, const std::string& sim, const std::s
 }
 
 Command runCommand(const RunJob& j, const std::string& run) {
+  // A peer writes a partial estimate that finishPeerRun (or the emitted line) moves into result/.
+  if (j.peer()) return {j.label, {j.peer_command, j.dataset, peerPartialEstimate(j)}, j.log};
   // Each run evaluates itself (result/evaluation/) without figures; the bench draws its own.
   return {j.label, {run, "--config", j.config, "--dataset", j.dataset, "--out", j.result_dir,
                     "--plots=false"}, j.log};
+}
+
+// The emitted shell line of a run: a peer's also moves its estimate into place on success.
+std::string runShellLine(const RunJob& j, const std::string& run) {
+  std::string line = shellLine(runCommand(j, run));
+  if (j.peer())
+    line += " && mkdir -p " + shellQuote(j.result_dir) + " && mv " +
+            shellQuote(peerPartialEstimate(j)) + " " + shellQuote(peerEstimate(j));
+  return line;
+}
+
+// Whether a sequence is read by any job that will run (not the peers' "n/a" cells).
+bool sequenceUsed(const MatrixSequence& q, const std::vector<RunJob>& jobs) {
+  for (const auto& j : jobs)
+    if (j.sequence == q.name && j.not_applicable.empty()) return true;
+  return false;
 }
 
 bool pythonHasMatplotlib() {
@@ -109,16 +127,14 @@ int emitJobs(const Matrix& matrix, const std::vector<RunJob>& jobs, const std::s
     << "# in any order or in parallel, then phase 3. Each line is independent.\n";
   o << "# phase 1: sequences\n";
   fs::create_directories(fs::path(out_dir) / "sequences");
-  for (const auto& q : matrix.sequences) {
-    bool used = false;
-    for (const auto& j : jobs) used = used || j.sequence == q.name;
-    if (used && q.simulated() && !fs::exists(sequencePath(q, out_dir)))
+  for (const auto& q : matrix.sequences)
+    if (sequenceUsed(q, jobs) && q.simulated() && !fs::exists(sequencePath(q, out_dir)))
       o << shellLine(simCommand(q, sim, out_dir)) << "\n";
-  }
   o << "# phase 2: runs\n";
   for (const auto& j : jobs) {
+    if (!j.not_applicable.empty()) continue;
     prepareJobConfig(matrix, j);
-    o << shellLine(runCommand(j, run)) << "\n";
+    o << runShellLine(j, run) << "\n";
   }
   o << "# phase 3: aggregate\n"
     << shellLine({"", {selfPath().string(), "--matrix", matrix.file, "--out",
@@ -136,12 +152,9 @@ int emitJobs(const Matrix& matrix, const std::vector<RunJob>& jobs, const std::s
 void generateSequences(const Matrix& matrix, const std::vector<RunJob>& jobs,
                        const std::string& out_dir, const std::string& sim) {
   std::vector<Command> commands;
-  for (const auto& q : matrix.sequences) {
-    bool used = false;
-    for (const auto& j : jobs) used = used || j.sequence == q.name;
-    if (used && q.simulated() && !fs::exists(sequencePath(q, out_dir)))
+  for (const auto& q : matrix.sequences)
+    if (sequenceUsed(q, jobs) && q.simulated() && !fs::exists(sequencePath(q, out_dir)))
       commands.push_back(simCommand(q, sim, out_dir));
-  }
   if (commands.empty()) return;
   fs::create_directories(fs::path(out_dir) / "sequences");
   runCommands(commands, FLAGS_jobs, [&](std::size_t i, const CommandOutcome& o) {
@@ -156,20 +169,37 @@ void generateSequences(const Matrix& matrix, const std::vector<RunJob>& jobs,
 void runJobs(const Matrix& matrix, const std::vector<RunJob>& jobs, const std::string& run) {
   std::vector<Command> commands;
   std::vector<const RunJob*> pending;
+  std::size_t not_applicable = 0, missing_peers = 0;
   for (const auto& j : jobs) {
+    if (!j.not_applicable.empty()) {
+      ++not_applicable;
+      continue;
+    }
     if (!FLAGS_force && runCompleted(j)) continue;
     prepareJobConfig(matrix, j);
     std::error_code ec;
     fs::remove(wallTimeFile(j), ec);
+    if (j.peer()) {  // a rerun must not leave the previous estimate looking complete
+      fs::remove_all(j.result_dir, ec);
+      fs::remove(peerPartialEstimate(j), ec);
+      if (!fs::exists(j.peer_command, ec)) {  // recorded like a failed run, nothing started
+        std::ofstream(j.log) << "error: peer command not found: " << j.peer_command << "\n";
+        std::fprintf(stderr, "hdvio_bench: %s: peer command not found: %s\n", j.label.c_str(),
+                     j.peer_command.c_str());
+        ++missing_peers;
+        continue;
+      }
+    }
     commands.push_back(runCommand(j, run));
     pending.push_back(&j);
   }
-  std::fprintf(stderr, "hdvio_bench: %zu runs to do, %zu already complete, %d in parallel\n",
-               commands.size(), jobs.size() - commands.size(), FLAGS_jobs);
+  const std::size_t todo = commands.size() + missing_peers;
+  std::fprintf(stderr, "hdvio_bench: %zu runs to do, %zu already complete, %d in parallel\n", todo,
+               jobs.size() - todo - not_applicable, FLAGS_jobs);
   std::size_t finished = 0;
   runCommands(commands, FLAGS_jobs, [&](std::size_t i, const CommandOutcome& o) {
     ++finished;
-    if (o.exit_code == 0) {
+    if (o.exit_code == 0 && (!pending[i]->peer() || finishPeerRun(*pending[i]))) {
       eval::writeFileAtomically(wallTimeFile(*pending[i]), std::to_string(o.wall_s) + "\n");
       std::fprintf(stderr, "hdvio_bench: [%zu/%zu] %s ok (%.1f s)\n", finished, commands.size(),
                    commands[i].label.c_str(), o.wall_s);
@@ -205,8 +235,16 @@ int benchMain() {
   const std::vector<RunMetrics> results = collectResults(matrix, jobs, out_dir);
   std::cout << writeBenchReport(matrix, results, out_dir) << std::flush;
   drawFigures(matrix, out_dir);
-  int not_ok = 0;
-  for (const auto& r : results) not_ok += r.status != "ok";
+  // Peers are outside the project: one that is not built or fails is a note in its cells,
+  // not a failure of the benchmark. "n/a" cells (a peer on a sequence without images) neither.
+  int not_ok = 0, peers_not_ok = 0;
+  for (const auto& r : results) {
+    if (r.status == "ok" || r.status == "n/a") continue;
+    ++(r.job.peer() ? peers_not_ok : not_ok);
+  }
+  if (peers_not_ok)
+    std::fprintf(stderr, "hdvio_bench: note: %d peer runs have no numbers (listed in the table)\n",
+                 peers_not_ok);
   std::fprintf(stderr, "hdvio_bench: table in %s/table.md%s\n", out_dir.c_str(),
                not_ok ? "; some runs have no numbers (listed in the table), exit 1" : "");
   return not_ok ? 1 : 0;

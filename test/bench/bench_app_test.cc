@@ -15,22 +15,13 @@
 
 #include <unistd.h>
 
-#include "../common/run_command.h"
+#include "bench_test_helpers.h"
 
 namespace {
 namespace fs = std::filesystem;
 
-using Outcome = hdvio::test::CommandOutcome;
-Outcome runShell(const std::string& cmd) { return hdvio::test::runCommand(cmd); }
-
-Outcome bench(const std::string& args) { return runShell(std::string(HDVIO_BENCH_BINARY) + " " + args); }
-
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using namespace hdvio::test;  // bench, runShell, readFile, jsonNumber (bench_test_helpers.h)
+using Outcome = CommandOutcome;
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
@@ -40,21 +31,12 @@ std::vector<std::string> lines(const std::string& text) {
   return out;
 }
 
-// The number after `"key": ` at or after `from` in a JSON text (this test's files only).
-double jsonNumber(const std::string& json, const std::string& key, std::size_t from = 0) {
-  const std::size_t at = json.find("\"" + key + "\": ", from);
-  if (at == std::string::npos) return NAN;
-  return std::strtod(json.c_str() + at + key.size() + 4, nullptr);
-}
-
 const std::string kSource = HDVIO_SOURCE_DIR;
 
 class BenchApp : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("hdvio_bench_app_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = freshTempDir("hdvio_bench_app_");
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static fs::path dir_;

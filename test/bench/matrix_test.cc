@@ -125,6 +125,60 @@ TEST_F(BenchMatrix, ExpandsRunsInMatrixOrderAndFiltersThem) {
   EXPECT_EQ(unseeded[3].config, (dir_ / "exp" / "b.yaml").string());  // the original
 }
 
+TEST_F(BenchMatrix, PeersAreColumnsAfterTheExperimentsAndNotApplicableWithoutImages) {
+  fs::create_directories(dir_ / "asl" / "mav0" / "cam0" / "data");
+  const Matrix m = loadMatrix(write(
+      "experiments:\n  - {name: a, config: exp/a.yaml}\n"
+      "peers:\n  - {name: ov, command: peers/run.sh}\n  - {name: abs, command: /no/such/run.sh}\n"
+      "sequences:\n  - {name: real, dataset: data}\n  - {name: asl, dataset: asl}\n"
+      "  - {name: rendered, sim: sim.yaml}\n  - {name: tracks, sim: sim.yaml, images: false}\n"
+      "seeds: [1, 2]\n"));
+  ASSERT_EQ(m.peers.size(), 2u);
+  EXPECT_EQ(m.peers[0].command, (dir_ / "peers" / "run.sh").string());  // missing: not an error
+  EXPECT_EQ(m.peers[1].command, "/no/such/run.sh");
+  const std::vector<RunJob> all = expandJobs(m, (dir_ / "out").string(), "");
+  ASSERT_EQ(all.size(), 16u);  // per sequence: a x 2 seeds, then ov and abs (not seeded)
+  EXPECT_EQ(all[2].label, "real/ov");
+  EXPECT_FALSE(all[0].peer());
+  EXPECT_TRUE(all[2].peer());
+  EXPECT_FALSE(all[2].seed.has_value());
+  EXPECT_EQ(all[2].peer_command, m.peers[0].command);
+  EXPECT_EQ(all[2].result_dir, (dir_ / "out" / "runs" / "real" / "ov" / "result").string());
+  EXPECT_NE(all[2].not_applicable.find("no mav0/cam0/data"), std::string::npos);  // not ASL
+  EXPECT_EQ(all[6].label, "asl/ov");
+  EXPECT_EQ(all[6].not_applicable, "");
+  EXPECT_EQ(all[10].label, "rendered/ov");
+  EXPECT_EQ(all[10].not_applicable, "");
+  EXPECT_EQ(all[10].dataset, (dir_ / "out" / "sequences" / "rendered").string());
+  EXPECT_EQ(all[15].label, "tracks/abs");
+  EXPECT_NE(all[15].not_applicable.find("images: false"), std::string::npos);
+  const std::vector<RunJob> only = expandJobs(m, (dir_ / "out").string(), "/ov");
+  ASSERT_EQ(only.size(), 4u);
+  EXPECT_EQ(only[3].label, "tracks/ov");
+  EXPECT_FALSE(runCompleted(only[1]));
+  fs::create_directories(only[1].result_dir);
+  std::ofstream(peerEstimate(only[1])) << "0 0 0 0 0 0 0 1\n";
+  EXPECT_TRUE(runCompleted(only[1]));  // a peer's run is its estimate in result/
+}
+
+TEST_F(BenchMatrix, RejectsBadPeersWithFileAndLine) {
+  const std::string file = (dir_ / "matrix.yaml").string();
+  const std::string head = "experiments:\n  - {name: a, config: exp/a.yaml}\n";
+  const std::string seqs = "sequences:\n  - {name: r, dataset: data}\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {head + "peers:\n  - {name: a, command: run.sh}\n" + seqs, ":4: peer name 'a' appears twice"},
+      {head + "peers:\n  - {name: p, command: run.sh, args: x}\n" + seqs, "peers[0].args': unknown key"},
+      {head + "peers:\n  - {name: p}\n" + seqs, "command': required key is missing"},
+      {head + "peers:\n  - {name: p, command: ''}\n" + seqs, ":4: key 'peers[0].command': empty"},
+      {head + "peers:\n  - {name: 'p q', command: run.sh}\n" + seqs, "use letters, digits"},
+  };
+  for (const auto& c : cases) {
+    const std::string e = loadError(c.first);
+    EXPECT_EQ(e.rfind(file, 0), 0u) << "no file name in: " << e << "\n for:\n" << c.first;
+    EXPECT_NE(e.find(c.second), std::string::npos) << e << "\n for:\n" << c.first;
+  }
+}
+
 TEST_F(BenchMatrix, SeededCopyKeepsTheExperimentAndItsRelativeFiles) {
   const Matrix m = loadMatrix(write(std::string(kGood) + "seeds: [42]\n"));
   const RunJob job = expandJobs(m, (dir_ / "out").string(), "real/a")[0];

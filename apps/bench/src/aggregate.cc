@@ -110,7 +110,60 @@ std::string markdownCell(const std::string& s) {
   return out;
 }
 
+// The number after the word `key` (e.g. "mean 5.52"), NAN if absent.
+double numberAfter(const std::string& line, const std::string& key) {
+  std::istringstream in(line);
+  std::string word;
+  while (in >> word)
+    if (word == key) {
+      double x = NAN;
+      return (in >> x) ? x : NAN;
+    }
+  return NAN;
+}
+
+// Below the runtime table: what each peer is, what its time counts, and its runs one by one.
+std::string peerNotes(const Matrix& matrix, const std::vector<RunMetrics>& runs) {
+  std::ostringstream t;
+  t << "\nPeers run as `<command> <ASL folder> <out.txt>`, evaluated like the experiments. Their "
+       "runtime is the mean time per image they print x images (what it counts: below); the "
+       "experiments' is their summed stage time.\n";
+  for (const MatrixPeer& p : matrix.peers) {
+    t << "\n- " << p.name << ": `" << p.command << "`\n";
+    for (const RunMetrics& r : runs) {
+      if (r.job.experiment != p.name) continue;
+      t << "  - " << r.job.sequence << ": ";
+      if (r.status == "ok" && std::isfinite(r.ms_per_image_mean))
+        t << "`" << r.peer_timing << "` " << num(r.ms_per_image_mean, 2) << " ms/image mean, "
+          << num(r.ms_per_image_median, 2) << " median; process " << num(r.process_wall_s, 1)
+          << " s\n";
+      else if (r.status == "ok")
+        t << "no `ms/image` line in its log; process " << num(r.process_wall_s, 1) << " s\n";
+      else
+        t << r.status << (r.error.empty() ? "" : ": " + shorten(r.error, 300)) << "\n";
+    }
+  }
+  return t.str();
+}
+
 }  // namespace
+
+bool readPeerTiming(const std::string& log_path, RunMetrics* m, std::size_t* images) {
+  std::ifstream in(log_path);
+  std::string line, timing;
+  while (std::getline(in, line))
+    if (line.find("ms/image") != std::string::npos) timing = line;
+  if (timing.empty()) return false;
+  m->ms_per_image_mean = numberAfter(timing, "mean");
+  m->ms_per_image_median = numberAfter(timing, "median");
+  const double n = numberAfter(timing, "images");
+  *images = std::isfinite(n) && n > 0 ? static_cast<std::size_t>(n) : 0;
+  std::istringstream words(timing.substr(0, timing.find("ms/image")));
+  std::string w;
+  m->peer_timing.clear();
+  while (words >> w) m->peer_timing = w;  // the word before "ms/image"
+  return std::isfinite(m->ms_per_image_mean);
+}
 
 std::string wallTimeFile(const RunJob& job) { return (fs::path(job.dir) / "wall_s.txt").string(); }
 
@@ -146,6 +199,12 @@ std::vector<RunMetrics> collectResults(const Matrix& matrix, const std::vector<R
     for (const RunJob* j : seq_jobs) {
       RunMetrics m;
       m.job = *j;
+      if (!j->not_applicable.empty()) {
+        m.status = "n/a";
+        m.error = j->not_applicable;
+        out.push_back(m);
+        continue;
+      }
       m.process_wall_s = readNumber(wallTimeFile(*j));
       if (!runCompleted(*j)) {
         if (fs::exists(j->log)) {
@@ -155,9 +214,14 @@ std::vector<RunMetrics> collectResults(const Matrix& matrix, const std::vector<R
         out.push_back(m);
         continue;
       }
-      m.stages = readStages((fs::path(j->result_dir) / "timing_stages.csv").string());
-      m.runtime_s = 0.0;
-      for (const auto& s : m.stages) m.runtime_s += s.second;
+      std::size_t peer_images = 0;
+      if (j->peer()) {
+        readPeerTiming(j->log, &m, &peer_images);
+      } else {
+        m.stages = readStages((fs::path(j->result_dir) / "timing_stages.csv").string());
+        m.runtime_s = 0.0;
+        for (const auto& s : m.stages) m.runtime_s += s.second;
+      }
       if (!gt) {
         m.status = "no_groundtruth";
         m.error = gt_problem;
@@ -172,6 +236,8 @@ std::vector<RunMetrics> collectResults(const Matrix& matrix, const std::vector<R
         report.results.push_back(eval::evaluateEstimate(*gt, est, options, report.distances));
         fillMetrics(report.results.back(), &m);
         m.status = "ok";
+        if (j->peer() && std::isfinite(m.ms_per_image_mean))  // one pose per image if not printed
+          m.runtime_s = m.ms_per_image_mean * 1e-3 * (peer_images ? peer_images : m.poses);
         if (m.runtime_s > 0.0) m.realtime_factor = m.duration_s / m.runtime_s;
       } catch (const std::exception& e) {
         m.status = "failed";
@@ -194,10 +260,13 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
     cells[{r.job.sequence, r.job.experiment}].push_back(&r);
     if (std::find(seqs.begin(), seqs.end(), r.job.sequence) == seqs.end()) seqs.push_back(r.job.sequence);
   }
-  for (const auto& e : matrix.experiments)
+  std::vector<std::string> columns;  // the experiments, then the peers
+  for (const auto& e : matrix.experiments) columns.push_back(e.name);
+  for (const auto& p : matrix.peers) columns.push_back(p.name);
+  for (const auto& name : columns)
     for (const RunMetrics& r : runs)
-      if (r.job.experiment == e.name) {
-        exps.push_back(e.name);
+      if (r.job.experiment == name) {
+        exps.push_back(name);
         break;
       }
   std::map<std::string, int> counts;
@@ -231,6 +300,7 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
     for (const RunMetrics* r : rs) (r->status == "ok" ? ok : bad)++;
     if (ok == 0) {
       if (rs.empty()) *text = "-";
+      else if (rs.front()->status == "n/a") *text = "n/a";
       else if (rs.front()->error.empty()) *text = rs.front()->status;
       else *text = rs.front()->status + ": " + markdownCell(shorten(rs.front()->error, 70));
       return false;
@@ -263,9 +333,14 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
   t << grid("Runtime: summed stage time [s] (x faster than real time)", [&](const auto& rs) {
     std::string note;
     if (!status(rs, &note)) return note;
-    return num(cellMean(rs, &RunMetrics::runtime_s), 2) + " (" +
-           num(cellMean(rs, &RunMetrics::realtime_factor), 1) + "x)" + note;
+    if (rs.front()->job.peer() && !std::isfinite(rs.front()->ms_per_image_mean))
+      return std::string("no time printed");
+    std::string cell = num(cellMean(rs, &RunMetrics::runtime_s), 2) + " (" +
+                       num(cellMean(rs, &RunMetrics::realtime_factor), 1) + "x)" + note;
+    if (rs.front()->job.peer()) cell += "; " + num(rs.front()->ms_per_image_mean, 2) + " ms/image";
+    return cell;
   });
+  if (!matrix.peers.empty()) t << peerNotes(matrix, runs);
   if (!stage_names.empty()) {
     t << "\n### Wall time per stage [s]\n\n| run |";
     for (const auto& s : stage_names) t << " " << s << " |";
@@ -286,7 +361,7 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
   }
   bool any_problem = false;
   for (const RunMetrics& r : runs)
-    if (r.status != "ok") {
+    if (r.status != "ok" && !r.job.peer()) {  // peers: in the peer notes above
       if (!any_problem) t << "\n### Runs without numbers\n\n";
       any_problem = true;
       t << "- " << r.job.label << ": " << r.status
@@ -296,7 +371,8 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
   std::ostringstream csv;
   csv << "sequence,experiment,seed,status,ate_t_m,ate_r_deg,rpe_t_m,velocity_rmse_m_s,"
          "force_total_rmse_m_s2,force_external_rmse_m_s2,matched,poses,runtime_s,duration_s,"
-         "realtime_factor,process_wall_s,result_dir,error\n";
+         "realtime_factor,process_wall_s,result_dir,error,peer,ms_per_image_mean,"
+         "ms_per_image_median,peer_timing\n";
   std::ostringstream json;
   json << "{\n  \"matrix\": " << jstr(matrix.file) << ",\n  \"alignment\": "
        << jstr(eval::alignmentName(matrix.alignment)) << ",\n  \"runs\": [";
@@ -309,7 +385,9 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
         << full(r.force_external_rmse, "") << "," << r.matched << "," << r.poses << ","
         << full(r.runtime_s, "") << "," << full(r.duration_s, "") << ","
         << full(r.realtime_factor, "") << "," << full(r.process_wall_s, "") << ","
-        << csvField(r.job.result_dir) << "," << csvField(r.error) << "\n";
+        << csvField(r.job.result_dir) << "," << csvField(r.error) << ","
+        << (r.job.peer() ? "true" : "false") << "," << full(r.ms_per_image_mean, "") << ","
+        << full(r.ms_per_image_median, "") << "," << csvField(r.peer_timing) << "\n";
     json << (i ? "," : "") << "\n    {\"sequence\": " << jstr(r.job.sequence)
          << ", \"experiment\": " << jstr(r.job.experiment)
          << ", \"seed\": " << (seed.empty() ? "null" : seed) << ", \"status\": " << jstr(r.status)
@@ -327,7 +405,10 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
     for (std::size_t k = 0; k < r.stages.size(); ++k)
       json << (k ? ", " : "") << jstr(r.stages[k].first) << ": " << full(r.stages[k].second, "null");
     json << "}, \"result_dir\": " << jstr(r.job.result_dir) << ", \"log\": " << jstr(r.job.log)
-         << ", \"error\": " << jstr(r.error) << "}";
+         << ", \"error\": " << jstr(r.error) << ", \"peer\": " << (r.job.peer() ? "true" : "false")
+         << ", \"ms_per_image_mean\": " << full(r.ms_per_image_mean, "null")
+         << ", \"ms_per_image_median\": " << full(r.ms_per_image_median, "null")
+         << ", \"peer_timing\": " << jstr(r.peer_timing) << "}";
   }
   json << "\n  ]\n}\n";
 

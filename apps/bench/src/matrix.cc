@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include <yaml-cpp/yaml.h>
@@ -86,6 +87,22 @@ Matrix loadMatrix(const std::string& path) {
     requireExists(path, lineOf(raw, "experiments", i, "config"), e.path() + ".config", x.config);
     m.experiments.push_back(x);
   }
+  if (cfg.has("peers")) {
+    const std::vector<ConfigReader> peers = cfg.list("peers");
+    for (std::size_t i = 0; i < peers.size(); ++i) {
+      MatrixPeer p;
+      peers[i].read("name", &p.name);
+      std::string command;
+      peers[i].read("command", &command);
+      peers[i].finish();
+      checkName(path, lineOf(raw, "peers", i, "name"), "peer", p.name, &names);
+      if (command.empty())
+        throw InputError(path, lineOf(raw, "peers", i, "command"),
+                         "key '" + peers[i].path() + ".command': empty");
+      p.command = resolve(base, command);  // may be absent: the peer's cells then say so
+      m.peers.push_back(p);
+    }
+  }
 
   names.clear();
   const std::vector<ConfigReader> sequences = cfg.list("sequences");
@@ -136,6 +153,20 @@ std::string sequencePath(const MatrixSequence& seq, const std::string& out_dir) 
   return (fs::absolute(out_dir) / "sequences" / seq.name).lexically_normal().string();
 }
 
+namespace {
+
+// Why a peer (which reads an ASL folder's cam0 images) cannot run on a sequence, or "".
+std::string peerNotApplicable(const MatrixSequence& q) {
+  if (q.simulated())
+    return q.sim_images ? "" : "the sequence is generated without images (images: false)";
+  std::error_code ec;
+  if (!fs::is_directory(fs::path(q.dataset) / "mav0" / "cam0" / "data", ec))
+    return "not an ASL folder with images (no mav0/cam0/data)";
+  return "";
+}
+
+}  // namespace
+
 std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
                                const std::string& only) {
   std::vector<RunJob> jobs;
@@ -143,7 +174,7 @@ std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
   std::vector<std::optional<int>> seeds;
   for (int s : matrix.seeds) seeds.push_back(s);
   if (seeds.empty()) seeds.push_back(std::nullopt);
-  for (const MatrixSequence& q : matrix.sequences)
+  for (const MatrixSequence& q : matrix.sequences) {
     for (const MatrixExperiment& e : matrix.experiments)
       for (const auto& seed : seeds) {
         RunJob j;
@@ -164,6 +195,22 @@ std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
         j.config = seed ? (dir / "experiment.yaml").string() : e.config;
         jobs.push_back(j);
       }
+    for (const MatrixPeer& p : matrix.peers) {
+      RunJob j;
+      j.sequence = q.name;
+      j.experiment = p.name;
+      j.label = q.name + "/" + p.name;
+      if (!only.empty() && j.label.find(only) == std::string::npos) continue;
+      const fs::path dir = runs / q.name / p.name;
+      j.dataset = sequencePath(q, out_dir);
+      j.dir = dir.string();
+      j.result_dir = (dir / "result").string();
+      j.log = (dir / "log.txt").string();
+      j.peer_command = p.command;
+      j.not_applicable = peerNotApplicable(q);
+      jobs.push_back(j);
+    }
+  }
   return jobs;
 }
 
@@ -171,7 +218,7 @@ void prepareJobConfig(const Matrix& matrix, const RunJob& job) {
   std::error_code ec;
   fs::create_directories(job.dir, ec);
   if (ec) throw InputError(job.dir, 0, "cannot create folder: " + ec.message());
-  if (!job.seed) return;
+  if (!job.seed || job.peer()) return;
   std::string original;
   for (const auto& e : matrix.experiments)
     if (e.name == job.experiment) original = e.config;
@@ -187,9 +234,32 @@ void prepareJobConfig(const Matrix& matrix, const RunJob& job) {
 
 bool runCompleted(const RunJob& job) {
   std::error_code ec;
+  if (job.peer()) return fs::exists(peerEstimate(job), ec);
   const fs::path r(job.result_dir);
   return fs::exists(r / "stamped_traj_estimate.txt", ec) && fs::exists(r / "config.yaml", ec) &&
          fs::exists(r / "timing_stages.csv", ec);
+}
+
+std::string peerPartialEstimate(const RunJob& job) {
+  return (fs::path(job.dir) / "estimate.partial.txt").string();
+}
+
+std::string peerEstimate(const RunJob& job) {
+  return (fs::path(job.result_dir) / "stamped_traj_estimate.txt").string();
+}
+
+bool finishPeerRun(const RunJob& job) {
+  std::error_code ec;
+  if (fs::is_regular_file(peerPartialEstimate(job), ec) &&
+      fs::file_size(peerPartialEstimate(job), ec) > 0) {
+    fs::create_directories(job.result_dir, ec);
+    fs::rename(peerPartialEstimate(job), peerEstimate(job), ec);
+    if (!ec) return true;
+  }
+  std::ofstream(job.log, std::ios::app) << "error: " << job.peer_command
+                                        << " exited 0 but wrote no estimate to "
+                                        << peerPartialEstimate(job) << "\n";
+  return false;
 }
 
 }  // namespace hdvio::bench

@@ -15,7 +15,8 @@ namespace hdvio::bench {
 
 struct RunMetrics {
   RunJob job;
-  std::string status = "missing";  // ok | failed | missing (never run) | no_groundtruth
+  std::string status = "missing";  // ok | failed | missing (never run) | no_groundtruth | n/a
+                                   // (a peer on a sequence without images)
   std::string error;               // failed: the log's last error line
   double ate_t_m = NAN;            // ATE translation rmse after the matrix's alignment
   double ate_r_deg = NAN;          // ATE rotation rmse
@@ -29,7 +30,14 @@ struct RunMetrics {
   double duration_s = NAN;         // time span of the estimate
   double realtime_factor = NAN;    // duration / runtime (> 1: faster than real time)
   double process_wall_s = NAN;     // whole hdvio_run process, when hdvio_bench ran it
+  // Peers: the per-image time the peer printed (a line with "<what> ms/image: mean <x> median
+  // <y>", optionally "images <n>"); runtime_s is then mean x images.
+  double ms_per_image_mean = NAN, ms_per_image_median = NAN;
+  std::string peer_timing;         // <what>: the word before "ms/image" (what the time counts)
 };
+
+// The peer's timing line in its log (the last line containing "ms/image"); false if none.
+bool readPeerTiming(const std::string& log_path, RunMetrics* m, std::size_t* images);
 
 // Evaluates every job's result against its sequence's ground truth; also writes
 // <out>/evaluation/<sequence>/ (hdvio_eval's report of all completed runs on that sequence).

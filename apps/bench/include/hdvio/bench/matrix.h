@@ -7,6 +7,8 @@
 //   sequences:                        # a recorded flight, or a simulator config generated once
 //     - {name: clover, dataset: /data/blackbird/clover/val}
 //     - {name: tiny, sim: ../sim/ci_tiny.yaml, images: false}
+//   peers:                            # optional: external estimators run beside the experiments
+//     - {name: openvins, command: ../../../shared/peers/openvins/run.sh}
 //   seeds: [1, 2, 3]                  # optional: written as run.seed into copies of the experiments
 //   metrics: {alignment: posyaw, plots: true}
 //
@@ -24,6 +26,13 @@ struct MatrixExperiment {
   std::string config;  // absolute path of the experiment YAML
 };
 
+// An external estimator (a peer such as OpenVINS), run once per sequence with images as
+// `<command> <ASL folder> <out.txt>`; it writes a TUM trajectory, evaluated like the experiments.
+struct MatrixPeer {
+  std::string name;
+  std::string command;  // absolute path; may be missing (its cells then say so)
+};
+
 struct MatrixSequence {
   std::string name;
   std::string dataset;     // absolute path of a recorded flight (empty for simulated ones)
@@ -36,33 +45,38 @@ struct Matrix {
   std::string file;
   std::vector<MatrixExperiment> experiments;
   std::vector<MatrixSequence> sequences;
+  std::vector<MatrixPeer> peers;  // columns after the experiments; not seeded
   std::vector<int> seeds;  // empty: each experiment's own run.seed
   eval::AlignmentType alignment = eval::AlignmentType::kPosYaw;
   bool plots = true;
 };
 
 // Throws InputError (file:line: problem) for unknown keys, missing files, bad or repeated
-// names, an empty matrix, or a sequence with neither or both of `dataset` and `sim`.
+// names (experiments and peers share one namespace: the table's columns), an empty matrix, or a
+// sequence with neither or both of `dataset` and `sim`. A missing peer command is not an error.
 Matrix loadMatrix(const std::string& path);
 
-// One hdvio_run process of the matrix.
+// One run of the matrix: an hdvio_run process, or a peer's command.
 struct RunJob {
   std::string sequence;
-  std::string experiment;
+  std::string experiment;   // the column: an experiment's or a peer's name
   std::optional<int> seed;
   std::string label;        // "<sequence>/<experiment>[/seed<k>]", what --only matches
   std::string dataset;      // the sequence hdvio_run reads
   std::string config;       // the experiment YAML hdvio_run reads (a seeded copy with seeds)
   std::string dir;          // <out>/runs/<sequence>/<experiment>[/seed<k>]
-  std::string result_dir;   // <dir>/result: hdvio_run --out
-  std::string log;          // <dir>/log.txt: hdvio_run's stdout and stderr
+  std::string result_dir;   // <dir>/result: hdvio_run --out; a peer's estimate is moved into it
+  std::string log;          // <dir>/log.txt: the process's stdout and stderr
+  std::string peer_command;    // peers: the command (empty for hdvio_run runs)
+  std::string not_applicable;  // peers: why the peer cannot run on this sequence (no images)
+  bool peer() const { return !peer_command.empty(); }
 };
 
 // Where a sequence is read from: its dataset, or <out>/sequences/<name> for simulated ones.
 std::string sequencePath(const MatrixSequence& seq, const std::string& out_dir);
 
-// Every (sequence, experiment[, seed]) whose label contains `only` (all when empty), sequences
-// in matrix order. Paths only; nothing is written.
+// Every (sequence, experiment[, seed]) and (sequence, peer) whose label contains `only` (all when
+// empty), sequences in matrix order. Paths only; nothing is written.
 std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
                                const std::string& only);
 
@@ -70,7 +84,16 @@ std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
 // paths made absolute (so learned weights etc. still resolve from the copy's folder).
 void prepareJobConfig(const Matrix& matrix, const RunJob& job);
 
-// The run finished: hdvio_run moves its result into place only after writing everything.
+// The run finished: hdvio_run moves its result into place only after writing everything; a
+// peer's estimate is moved there after its command exited 0 (finishPeerRun).
 bool runCompleted(const RunJob& job);
+
+// Where a peer writes its estimate while it runs (<dir>/estimate.partial.txt).
+std::string peerPartialEstimate(const RunJob& job);
+// The estimate a completed peer run leaves: <result_dir>/stamped_traj_estimate.txt.
+std::string peerEstimate(const RunJob& job);
+// After the peer's command exited 0: moves its estimate into result/. False (and a line
+// "error: ..." appended to its log) when it wrote none.
+bool finishPeerRun(const RunJob& job);
 
 }  // namespace hdvio::bench

@@ -1,0 +1,175 @@
+// hdvio_bench with peers (external estimators such as OpenVINS): a fake peer — a shell script
+// that writes the ground truth with a known zig-zag as its estimate and prints a time per image
+// — becomes a column with the ATE hdvio_eval gives its estimate and that time; a missing or
+// failing peer is a note in its cells (not an exit-1 failure), a sequence without images is
+// "n/a"; --only, reruns, --force and --emit-jobs work for peer runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "bench_test_helpers.h"
+
+namespace {
+namespace fs = std::filesystem;
+
+using namespace hdvio::test;  // bench, runShell, readFile, jsonNumber (bench_test_helpers.h)
+using Outcome = CommandOutcome;
+
+// The table row of a sequence.
+std::string row(const std::string& table, const std::string& sequence) {
+  std::stringstream ss(table);
+  std::string line;
+  while (std::getline(ss, line))
+    if (line.rfind("| " + sequence + " |", 0) == 0) return line;
+  return "";
+}
+
+const std::string kSource = HDVIO_SOURCE_DIR;
+
+class BenchPeer : public ::testing::Test {
+ protected:
+  // One ASL folder (ci_tiny without rendering, plus an empty cam0/data: the fake peer reads no
+  // image) and a matrix with a fake, a failing and a missing peer.
+  static void SetUpTestSuite() {
+    dir_ = freshTempDir("hdvio_bench_peer_");
+    fs::create_directories(dir_ / "peers");
+    const Outcome sim = runShell(std::string(HDVIO_SIM_BINARY) + " --config " + kSource +
+                                 "/config/sim/ci_tiny.yaml --no_images --out " + seq().string());
+    ASSERT_EQ(sim.exit_code, 0) << sim.output;
+    fs::create_directories(seq() / "mav0" / "cam0" / "data");
+    // ASL ground truth (t [ns], p, q_wxyz, ...) -> TUM (t [s], p, q_xyzw), x += +-5 cm alternately.
+    std::ofstream(dir_ / "peers" / "fake.sh")
+        << "#!/bin/sh\nset -e\n"
+           "awk -F, '!/^#/ {printf \"%.9f %.9f %s %s %s %s %s %s\\n\", $1 / 1e9, "
+           "$2 + (NR % 2 ? 0.05 : -0.05), $3, $4, $6, $7, $8, $5}' "
+           "\"$1/mav0/state_groundtruth_estimate0/data.csv\" > \"$2\"\n"
+           "echo \"images 50  fake_update ms/image: mean 2.50  median 2.00  (threads=1)\"\n";
+    std::ofstream(dir_ / "peers" / "broken.sh")
+        << "#!/bin/sh\necho 'error: the fake peer broke' >&2\nexit 3\n";
+    fs::permissions(dir_ / "peers" / "fake.sh", fs::perms::owner_all);
+    fs::permissions(dir_ / "peers" / "broken.sh", fs::perms::owner_all);
+    std::ofstream(matrix())
+        << "experiments:\n  - {name: vio, config: " << kSource << "/config/experiments/vio.yaml}\n"
+        << "peers:\n  - {name: peer_fake, command: peers/fake.sh}\n"  // relative to the matrix
+        << "  - {name: peer_broken, command: " << (dir_ / "peers" / "broken.sh").string() << "}\n"
+        << "  - {name: peer_absent, command: /no/such/peer/run.sh}\n"
+        << "sequences:\n  - {name: asl, dataset: " << seq().string() << "}\n"
+        << "  - {name: tracks, sim: " << kSource << "/config/sim/ci_tiny.yaml, images: false}\n"
+        << "metrics: {plots: false}\n";
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static fs::path seq() { return dir_ / "asl_seq"; }
+  static fs::path matrix() { return dir_ / "matrix.yaml"; }
+  // hdvio_eval's ATE translation rmse of an estimate file against the ASL folder.
+  static double evalAte(const fs::path& estimate, const std::string& tag) {
+    const fs::path out = dir_ / ("eval_" + tag);
+    const Outcome e = runShell(std::string(HDVIO_EVAL_BINARY) + " --gt " + seq().string() +
+                               " --est p=" + estimate.string() + " --out " + out.string());
+    EXPECT_EQ(e.exit_code, 0) << e.output;
+    const std::string metrics = readFile(out / "metrics.json");
+    return jsonNumber(metrics, "rmse", metrics.find("ate_translation_m"));
+  }
+  static fs::path dir_;
+};
+fs::path BenchPeer::dir_;
+
+TEST_F(BenchPeer, PeerColumnsBesideTheExperiments) {
+  const fs::path out = dir_ / "out";
+  // Peers only (--only): no hdvio_run, and `tracks` is not generated (its peer cells are n/a).
+  const Outcome o = bench("--matrix " + matrix().string() + " --out " + out.string() + " --only peer_");
+  ASSERT_EQ(o.exit_code, 0) << o.output;  // failing / missing peers are notes, not failures
+  EXPECT_NE(o.output.find("3 runs to do, 0 already complete"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("note: 2 peer runs have no numbers"), std::string::npos) << o.output;
+  EXPECT_FALSE(fs::exists(out / "sequences" / "tracks"));
+  const std::string table = readFile(out / "table.md");
+  EXPECT_NE(table.find("| sequence | peer_fake | peer_broken | peer_absent |"), std::string::npos) << table;
+  EXPECT_NE(row(table, "asl").find("| 0.050 / 0.00 |"), std::string::npos) << table;
+  EXPECT_NE(row(table, "asl").find("failed: error: the fake peer broke"), std::string::npos) << table;
+  EXPECT_NE(row(table, "asl").find("failed: error: peer command not found: /no/such/peer/run.sh"),
+            std::string::npos) << table;
+  EXPECT_EQ(row(table, "tracks"), "| tracks | n/a | n/a | n/a |");  // first grid: ATE
+  EXPECT_NE(table.find("`fake_update` 2.50 ms/image mean, 2.00 median"), std::string::npos) << table;
+  EXPECT_NE(table.find("; 2.50 ms/image |"), std::string::npos) << table;  // runtime column
+  EXPECT_NE(table.find("tracks: n/a: the sequence is generated without images"), std::string::npos) << table;
+  EXPECT_EQ(table.find("Runs without numbers"), std::string::npos) << table;  // peers: notes
+
+  // The peer's numbers are hdvio_eval's for its estimate (same ground truth, alignment,
+  // association): the zig-zag's 5 cm.
+  const fs::path estimate = out / "runs" / "asl" / "peer_fake" / "result" / "stamped_traj_estimate.txt";
+  ASSERT_TRUE(fs::exists(estimate));
+  EXPECT_FALSE(fs::exists(out / "runs" / "asl" / "peer_fake" / "estimate.partial.txt"));
+  const double ate = evalAte(estimate, "fake");
+  EXPECT_NEAR(ate, 0.05, 2e-3);
+  const std::string results = readFile(out / "results.json");
+  const std::size_t run = results.find("\"experiment\": \"peer_fake\"");
+  ASSERT_NE(run, std::string::npos) << results;
+  EXPECT_NE(results.find("\"status\": \"ok\"", run), std::string::npos);
+  EXPECT_NEAR(jsonNumber(results, "ate_t_m", run), ate, 1e-12 * ate);
+  EXPECT_DOUBLE_EQ(jsonNumber(results, "ms_per_image_mean", run), 2.5);
+  EXPECT_DOUBLE_EQ(jsonNumber(results, "ms_per_image_median", run), 2.0);
+  EXPECT_NEAR(jsonNumber(results, "runtime_s", run), 50 * 2.5e-3, 1e-12);  // images x mean
+  EXPECT_GT(jsonNumber(results, "realtime_factor", run), 0.0);
+  EXPECT_TRUE(fs::exists(out / "evaluation" / "asl" / "metrics.json"));
+
+  // A rerun skips the completed peer run (the failing ones run again); --force reruns it.
+  const Outcome again = bench("--matrix " + matrix().string() + " --out " + out.string() + " --only peer_");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("2 runs to do, 1 already complete"), std::string::npos) << again.output;
+  const Outcome forced = bench("--matrix " + matrix().string() + " --out " + out.string() +
+                               " --only asl/peer_fake --force");
+  EXPECT_EQ(forced.exit_code, 0) << forced.output;
+  EXPECT_NE(forced.output.find("1 runs to do, 0 already complete"), std::string::npos) << forced.output;
+  EXPECT_NE(row(readFile(out / "table.md"), "asl").find("| 0.050 / 0.00 |"), std::string::npos);
+}
+
+TEST_F(BenchPeer, EmittedPeerLinesRunAndAggregate) {
+  const fs::path out = dir_ / "emit";
+  const Outcome o = bench("--matrix " + matrix().string() + " --out " + out.string() +
+                          " --only peer_fake --emit-jobs -");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  std::vector<std::string> runs;
+  std::stringstream ss(o.output);
+  for (std::string l; std::getline(ss, l);)
+    if (l.find("peers/fake.sh ") != std::string::npos) runs.push_back(l);
+  ASSERT_EQ(runs.size(), 1u) << o.output;  // asl only: the n/a run is not emitted
+  EXPECT_NE(runs[0].find(seq().string() + " " + (out / "runs/asl/peer_fake/estimate.partial.txt").string()),
+            std::string::npos) << runs[0];
+  const Outcome ran = runShell(runs[0]);
+  ASSERT_EQ(ran.exit_code, 0) << ran.output;
+  const Outcome agg = bench("--matrix " + matrix().string() + " --out " + out.string() +
+                            " --only peer_fake --aggregate-only");
+  EXPECT_EQ(agg.exit_code, 0) << agg.output;
+  EXPECT_NE(row(readFile(out / "table.md"), "asl").find("| asl | 0.050 / 0.00 |"), std::string::npos)
+      << readFile(out / "table.md");
+}
+
+// The real matrix: OpenVINS is a column of every sequence, run through the shared peer script.
+TEST_F(BenchPeer, SimImagesMatrixRunsOpenVinsBesideTheFrontendExperiments) {
+  const Outcome o = bench("--matrix " + kSource + "/config/bench/sim_images.yaml --out " +
+                          (dir_ / "sim_images").string() + " --emit-jobs - --only race_v15_wind");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  int openvins = 0, hdvio_runs = 0;
+  std::stringstream ss(o.output);
+  for (std::string l; std::getline(ss, l);) {
+    if (l.find("hdvio_sim ") != std::string::npos) {
+      EXPECT_EQ(l.find("--no_images"), std::string::npos) << l;
+    }
+    if (l.find("/peers/openvins/run.sh " + (dir_ / "sim_images/sequences/race_v15_wind").string()) !=
+        std::string::npos)
+      ++openvins;
+    if (l.find("hdvio_run --config " + kSource + "/config/experiments/sim_images_") != std::string::npos)
+      ++hdvio_runs;
+  }
+  EXPECT_EQ(openvins, 1) << o.output;
+  EXPECT_EQ(hdvio_runs, 4) << o.output;  // vio, vimo x ground-truth start, own start
+}
+
+}  // namespace
