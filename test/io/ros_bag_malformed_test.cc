@@ -3,13 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <random>
 
 #include "../common/run_command.h"
 #include "bag_flight.h"
 #include "hdvio/core/error.h"
 #include "hdvio/io/asl.h"
+#include "hdvio/io/image.h"
 #include "hdvio/io/ros_bag.h"
 #include "hdvio/io/sequence_reader.h"
 #include "test_data.h"
@@ -196,6 +199,34 @@ TEST_F(BrokenBag, StrictTopicMap) {
   } catch (const InputError& e) {
     EXPECT_NE(e.problem().find("applies to ROS bags only"), std::string::npos) << e.what();
   }
+}
+
+// Random single-byte corruptions (fixed seed): reading either succeeds or throws InputError;
+// nothing crashes and no other exception escapes, also when loading the images afterwards.
+TEST_F(BrokenBag, CorruptedBytesAreInputErrorsOrHarmless) {
+  std::mt19937 rng(20);
+  int errors = 0, read = 0;
+  for (const std::string& good : {good_, test::flightBag(flight_, "lz4")}) {
+    std::uniform_int_distribution<std::size_t> at(0, good.size() - 1);
+    for (int i = 0; i < 150; ++i) {
+      std::string bad = good;
+      bad[at(rng)] = static_cast<char>(rng());
+      const std::string bag = dir_ / "mutated.bag";
+      writeBytes(bag, bad);
+      try {
+        const Sequence seq = readSequence(bag, options());
+        for (const auto& image : seq.images) loadImage(image);
+        ++read;
+      } catch (const InputError&) {
+        ++errors;
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << "not an InputError: " << e.what();
+      }
+    }
+  }
+  std::printf("corrupted bags: %d InputErrors, %d read\n", errors, read);
+  EXPECT_GT(errors, 0);
+  EXPECT_GT(read, 0);  // most bytes are sample values, which any number may replace
 }
 
 TEST_F(BrokenBag, ToolsExitTwoWithOneLineAndNoOutput) {

@@ -1,6 +1,7 @@
 // ROS 1 bag -> Sequence: the topic map picks the topics, ros_messages decodes them, the
 // calibration folder adds the sensor.yaml files a bag does not carry.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
