@@ -137,7 +137,7 @@ TEST(RoundTrip, SyntheticSequenceWithForcesLandmarksAndImagesInPlace) {
     if (k % 40 == 0) {
       const std::string png = out + "/mav0/cam0/data/frame_" + std::to_string(k) + ".png";
       cv::imwrite(png, cv::Mat(48, 64, CV_8UC1, cv::Scalar(k % 256)));
-      seq.images.push_back({t, png});
+      seq.images.push_back({t, png, "", 0});
       for (int id = 0; id < 3; ++id) seq.landmark_observations.push_back({t, id, 10.5 + id + s, 20.25 - s});
     }
   }
@@ -177,7 +177,7 @@ TEST(WriteAsl, RejectsInconsistentSequencesWithoutPartialOutput) {
   Sequence seq;
   EXPECT_THROW(writeAsl(seq, dir / "empty"), InputError);  // no IMU
   seq.imu.push_back({0, Vec3::Zero(), Vec3(0, 0, 9.81)});
-  seq.images.push_back({0, dir / "missing.png"});
+  seq.images.push_back({0, dir / "missing.png", "", 0});
   EXPECT_THROW(writeAsl(seq, dir / "nocam"), InputError);  // images without calibration
   seq.camera = CameraCalibration{Pose(), 10, 10, 10.0, 5, 5, 5, 5, DistortionModel::kNone, {}, ""};
   EXPECT_THROW(writeAsl(seq, dir / "noimage"), InputError);  // image file missing
