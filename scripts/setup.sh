@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hdvio needs. Idempotent: packages already present are skipped.
-# Usage: scripts/setup.sh [--with-torch]   (--with-torch adds libtorch for the trainer)
+# Usage: scripts/setup.sh [--with-torch]   (--with-torch adds libtorch for the trainer and
+# python3-torch for scripts/make_imo_release_parity_fixture.py)
 set -euo pipefail
 
 packages=(
@@ -14,7 +15,7 @@ packages=(
 )
 for arg in "$@"; do
   case "$arg" in
-    --with-torch) packages+=(libtorch-dev) ;;
+    --with-torch) packages+=(libtorch-dev python3-torch) ;;
     *) echo "setup.sh: unknown argument '$arg' (expected --with-torch)" >&2; exit 2 ;;
   esac
 done
