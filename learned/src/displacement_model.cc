@@ -53,13 +53,15 @@ DisplacementInputKind displacementInputKindFromString(const std::string& name) {
                               "' (expected thrust_gyro or accel_gyro)");
 }
 
-DisplacementModel::DisplacementModel(Tcn tcn, DisplacementInputKind kind, Eigen::Vector3d sigma)
-    : tcn_(std::move(tcn)), kind_(kind), sigma_(std::move(sigma)) {
+DisplacementModel::DisplacementModel(Tcn tcn, DisplacementInputKind kind,
+                                     std::optional<Eigen::Vector3d> sigma,
+                                     DisplacementSampleTimes sample_times)
+    : tcn_(std::move(tcn)), kind_(kind), sigma_(std::move(sigma)), sample_times_(sample_times) {
   if (tcn_.architecture().input_channels != 6) {
     throw std::invalid_argument("a displacement network needs 6 input channels, found " +
                                 std::to_string(tcn_.architecture().input_channels));
   }
-  if (!(sigma_.array() > 0.0).all() || !sigma_.allFinite()) {
+  if (sigma_ && (!(sigma_->array() > 0.0).all() || !sigma_->allFinite())) {
     throw std::invalid_argument("displacement sigma must be positive");
   }
 }
@@ -70,14 +72,14 @@ DisplacementModel DisplacementModel::load(const std::string& path) {
     throw InputError(path, 0, "not a displacement network (task '" + file.info.task +
                                   "'; expected a version-2 file with \"task displacement\")");
   }
-  if (file.info.output_sigma.size() != 3) {
-    throw InputError(path, 0, "a displacement network needs \"output_sigma <sx> <sy> <sz>\"");
-  }
-  const Eigen::Vector3d sigma(file.info.output_sigma[0], file.info.output_sigma[1],
-                              file.info.output_sigma[2]);
+  std::optional<Eigen::Vector3d> sigma;  // "output_sigma none": no covariance
+  if (file.info.output_sigma.size() == 3)
+    sigma = Eigen::Vector3d(file.info.output_sigma[0], file.info.output_sigma[1], file.info.output_sigma[2]);
+  const DisplacementSampleTimes times =
+      file.info.sample_times == "begin" ? DisplacementSampleTimes::kBegin : DisplacementSampleTimes::kEnd;
   try {
     return DisplacementModel(std::move(file.tcn), displacementInputKindFromString(file.info.inputs),
-                             sigma);
+                             sigma, times);
   } catch (const std::invalid_argument& e) {
     throw InputError(path, 0, e.what());
   }
@@ -89,13 +91,15 @@ DisplacementPrediction DisplacementModel::predict(const MatrixXf& window) const 
   p.displacement = out.force.cast<double>();
   if (tcn_.architecture().variance_head) {
     p.covariance = out.log_variance.cast<double>().array().exp().matrix().asDiagonal();
-  } else {
-    p.covariance = sigma_.array().square().matrix().asDiagonal();
+  } else if (sigma_) {
+    p.covariance = sigma_->array().square().matrix().asDiagonal();
   }
   return p;
 }
 
 Timestamp displacementSampleTime(const DisplacementModel& model, Timestamp t_end, int k) {
+  if (model.sampleTimes() == DisplacementSampleTimes::kBegin)
+    return t_end - model.windowDuration() + fromSeconds(k / model.sampleRateHz());
   const int n = model.windowSamples();
   return t_end - fromSeconds((n - 1 - k) / model.sampleRateHz());
 }

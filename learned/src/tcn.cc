@@ -202,9 +202,10 @@ void TcnArchitecture::validate() const {
     require(l.dilation >= 1 && l.dilation <= 4096, "dilation must be in [1, 4096]");
   }
   require(output_channels == 3, "output_channels must be 3 (a force or a displacement)");
-  require(receptiveField() <= window,
+  require(residual || !block_relu, "block_relu needs residual blocks");
+  require(window_padding || receptiveField() <= window,
           "receptive field " + std::to_string(receptiveField()) + " exceeds the window " +
-              std::to_string(window));
+              std::to_string(window) + " (allowed only with window_padding)");
 }
 
 TcnArchitecture TcnArchitecture::paper(bool variance_head) {
@@ -220,6 +221,14 @@ TcnArchitecture TcnArchitecture::imo(int window, double sample_rate_hz) {
   a.window = window;
   a.sample_rate_hz = sample_rate_hz;
   a.layers = {{64, 8}, {64, 8}, {64, 4}, {64, 1}, {128, 1}, {128, 1}, {128, 1}};
+  return a;
+}
+
+TcnArchitecture TcnArchitecture::imoRelease(int window, double sample_rate_hz) {
+  TcnArchitecture a = imo(window, sample_rate_hz);
+  a.block_relu = true;
+  a.window_padding = true;
+  for (std::size_t l = 0; l < a.layers.size(); ++l) a.layers[l].dilation = 1 << l;
   return a;
 }
 
@@ -375,6 +384,7 @@ MatrixXf Tcn::runResidual(MatrixXf x, std::vector<int> column_of,
     } else {
       y += affine(skip.weight, skip.bias, x_out);
     }
+    if (arch_.block_relu) y = y.cwiseMax(0.0f);
     mapColumns(out, &column_of);
     x = std::move(y);
   }

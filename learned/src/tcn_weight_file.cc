@@ -20,6 +20,7 @@ constexpr const char* kFormatName = "hdvio_tcn";
 constexpr int kFormatVersion = 1;   // plain networks, no info
 constexpr int kFormatVersion2 = 2;  // residual networks, info, float32 encoding
 constexpr int kFormatVersion3 = 3;  // version 2 + the drag law the force network complements
+constexpr int kFormatVersion4 = 4;  // version 3 + sample_times, block_relu, window_padding
 
 // Walks the meaningful lines of the file, splitting each into whitespace tokens.
 class LineCursor {
@@ -239,7 +240,7 @@ std::string word(LineCursor& c, const std::string& key, const std::vector<std::s
   c.fail("unknown " + key + " '" + c.tokens()[1] + "' (expected one of: " + list + ")");
 }
 
-TcnFileInfo readInfo(LineCursor& c, bool with_drag_law) {
+TcnFileInfo readInfo(LineCursor& c, bool with_drag_law, bool with_sample_times) {
   TcnFileInfo info;
   info.task = word(c, "task", {"force", "displacement"});
   info.inputs = word(c, "inputs", {"thrust_gyro", "accel_gyro"});
@@ -256,14 +257,16 @@ TcnFileInfo readInfo(LineCursor& c, bool with_drag_law) {
   const std::string form = "drag_law <dx> <dy> <dz> <cx> <cy> <cz>";
   c.expectNext(form);
   if (c.tokens()[0] != "drag_law") c.fail("expected \"" + form + "\" or \"drag_law none\"");
-  if (c.tokens().size() == 2 && c.tokens()[1] == "none") return info;
-  c.expectTokens(7, form);
-  for (int i = 0; i < 3; ++i) {
-    info.drag_law.linear(i) = c.real(1 + i);
-    info.drag_law.quadratic(i) = c.real(4 + i);
+  if (!(c.tokens().size() == 2 && c.tokens()[1] == "none")) {
+    c.expectTokens(7, form);
+    for (int i = 0; i < 3; ++i) {
+      info.drag_law.linear(i) = c.real(1 + i);
+      info.drag_law.quadratic(i) = c.real(4 + i);
+    }
+    if ((info.drag_law.linear.array() < 0.0).any() || (info.drag_law.quadratic.array() < 0.0).any())
+      c.fail("drag_law coefficients must be non-negative");
   }
-  if ((info.drag_law.linear.array() < 0.0).any() || (info.drag_law.quadratic.array() < 0.0).any())
-    c.fail("drag_law coefficients must be non-negative");
+  if (with_sample_times) info.sample_times = word(c, "sample_times", {"end", "begin"});
   return info;
 }
 
@@ -334,12 +337,13 @@ TcnFile parseTcnFile(const std::string& text, const std::string& name) {
   if (c.tokens()[0] != kFormatName) c.fail("not an hdvio TCN weight file (no \"hdvio_tcn\" header)");
   c.expectTokens(2, "hdvio_tcn <version>");
   const long version = c.integer(1, 0, 1000);
-  if (version != kFormatVersion && version != kFormatVersion2 && version != kFormatVersion3) {
+  if (version < kFormatVersion || version > kFormatVersion4) {
     c.fail("unsupported format version " + c.tokens()[1]);
   }
   const bool v2 = version >= kFormatVersion2;  // the version-2 layout (3 adds the drag law)
   TcnFileInfo info;
-  if (v2) info = readInfo(c, version == kFormatVersion3);
+  const bool v4 = version == kFormatVersion4;
+  if (v2) info = readInfo(c, version >= kFormatVersion3, v4);
 
   TcnArchitecture a;
   a.input_channels = static_cast<int>(keyValue(c, "input_channels", 1, 4096));
@@ -352,6 +356,10 @@ TcnFile parseTcnFile(const std::string& text, const std::string& name) {
   if (a.sample_rate_hz <= 0.0) c.fail("sample_rate_hz must be positive");
   a.variance_head = keyValue(c, "variance_head", 0, 1) == 1;
   if (v2) a.residual = keyValue(c, "residual", 0, 1) == 1;
+  if (v4) {
+    a.block_relu = keyValue(c, "block_relu", 0, 1) == 1;
+    a.window_padding = keyValue(c, "window_padding", 0, 1) == 1;
+  }
   const long n_layers = keyValue(c, "layers", 1, 256);
   for (long l = 0; l < n_layers; ++l) {
     c.expectNext("layer <out_channels> <dilation>");
@@ -411,9 +419,12 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
                       TcnEncoding encoding) {
   const TcnArchitecture& a = tcn.architecture();
   std::ostringstream os;
-  const bool with_drag_law = info && info->drag_law.enabled();
+  // The oldest version that can hold what is written (older readers keep working).
+  const bool v4 = info && (a.block_relu || a.window_padding || info->sample_times != "end");
+  const bool with_drag_law = info && (info->drag_law.enabled() || v4);
   os << kFormatName << ' '
-     << (with_drag_law ? kFormatVersion3 : info ? kFormatVersion2 : kFormatVersion) << '\n';
+     << (v4 ? kFormatVersion4 : with_drag_law ? kFormatVersion3 : info ? kFormatVersion2 : kFormatVersion)
+     << '\n';
   std::istringstream lines(comment);
   for (std::string line; std::getline(lines, line);) os << "# " << line << '\n';
   if (info) {
@@ -425,7 +436,9 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
       os << ' ' << buf;
     }
     os << '\n';
-    if (with_drag_law) {
+    if (with_drag_law && !info->drag_law.enabled()) {
+      os << "drag_law none\n";
+    } else if (with_drag_law) {
       os << "drag_law";
       for (const Vec3* v : {&info->drag_law.linear, &info->drag_law.quadratic})
         for (int i = 0; i < 3; ++i) {
@@ -434,6 +447,7 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
         }
       os << '\n';
     }
+    if (v4) os << "sample_times " << info->sample_times << '\n';
   }
   char rate[32];
   std::snprintf(rate, sizeof(rate), "%.17g", a.sample_rate_hz);
@@ -441,6 +455,7 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
      << "\nwindow " << a.window << "\nsample_rate_hz " << rate << "\nvariance_head "
      << (a.variance_head ? 1 : 0) << '\n';
   if (info) os << "residual " << (a.residual ? 1 : 0) << '\n';
+  if (v4) os << "block_relu " << (a.block_relu ? 1 : 0) << "\nwindow_padding " << (a.window_padding ? 1 : 0) << '\n';
   os << "layers " << a.layers.size() << '\n';
   for (const auto& l : a.layers) os << "layer " << l.out_channels << ' ' << l.dilation << '\n';
   std::deque<MatrixXf> hold;  // vectors as matrices; deque keeps their addresses

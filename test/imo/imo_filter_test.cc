@@ -66,35 +66,38 @@ TEST(ImoPropagation, FollowsNoiseFreeAnalyticFlight) {
 }
 
 TEST(ImoPropagation, JacobiansMatchFiniteDifferences) {
-  ImoNominalState x = exactState(1.3);
-  x.bg = Vec3(0.01, -0.02, 0.015);
-  x.ba = Vec3(0.1, 0.05, -0.2);
-  const ImuSample m = imuAt(1.3, 0);
-  const double dt = 0.01;
-  const Vec3 g = gravityWorld();
-  const PropagationStep ref = propagateNominal(x, m.gyro, m.accel, dt, g);
-  const double eps = 1e-6;
-  for (int i = 0; i < 15; ++i) {
-    Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::Zero();
-    d(i) = eps;
-    const auto plus = propagateNominal(perturbed(x, d), m.gyro, m.accel, dt, g);
-    const auto minus = propagateNominal(perturbed(x, -d), m.gyro, m.accel, dt, g);
-    const Eigen::Matrix<double, 15, 1> col =
-        (stateError(ref.state, plus.state) - stateError(ref.state, minus.state)) / (2 * eps);
-    EXPECT_LT((col - ref.A.col(i)).norm(), 1e-7) << "column " << i << "\n" << col.transpose()
-                                                  << "\n" << ref.A.col(i).transpose();
-  }
-  // Noise inputs: gyro noise n_g enters as gyro + n_g, accel noise as accel + n_a.
-  for (int i = 0; i < 6; ++i) {
-    Vec3 dg = Vec3::Zero(), da = Vec3::Zero();
-    (i < 3 ? dg : da)(i % 3) = eps;
-    const auto plus = propagateNominal(x, m.gyro + dg, m.accel + da, dt, g);
-    const auto minus = propagateNominal(x, m.gyro - dg, m.accel - da, dt, g);
-    const Eigen::Matrix<double, 15, 1> col =
-        (stateError(ref.state, plus.state) - stateError(ref.state, minus.state)) / (2 * eps);
-    // B is d(error)/d(noise) with error = truth (-) estimate and measurement = truth + noise,
-    // so perturbing the measurement moves the estimate by -B.
-    EXPECT_LT((col + ref.B.col(i)).norm(), 1e-7) << "noise column " << i;
+  for (bool start : {false, true}) {  // mid-step attitude, release (start-attitude) step
+    SCOPED_TRACE(start ? "start attitude" : "mid-step attitude");
+    ImoNominalState x = exactState(1.3);
+    x.bg = Vec3(0.01, -0.02, 0.015);
+    x.ba = Vec3(0.1, 0.05, -0.2);
+    const ImuSample m = imuAt(1.3, 0);
+    const double dt = 0.01;
+    const Vec3 g = gravityWorld();
+    const PropagationStep ref = propagateNominal(x, m.gyro, m.accel, dt, g, start);
+    const double eps = 1e-6;
+    for (int i = 0; i < 15; ++i) {
+      Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::Zero();
+      d(i) = eps;
+      const auto plus = propagateNominal(perturbed(x, d), m.gyro, m.accel, dt, g, start);
+      const auto minus = propagateNominal(perturbed(x, -d), m.gyro, m.accel, dt, g, start);
+      const Eigen::Matrix<double, 15, 1> col =
+          (stateError(ref.state, plus.state) - stateError(ref.state, minus.state)) / (2 * eps);
+      EXPECT_LT((col - ref.A.col(i)).norm(), 1e-7) << "column " << i << "\n" << col.transpose()
+                                                    << "\n" << ref.A.col(i).transpose();
+    }
+    // Noise inputs: gyro noise n_g enters as gyro + n_g, accel noise as accel + n_a.
+    for (int i = 0; i < 6; ++i) {
+      Vec3 dg = Vec3::Zero(), da = Vec3::Zero();
+      (i < 3 ? dg : da)(i % 3) = eps;
+      const auto plus = propagateNominal(x, m.gyro + dg, m.accel + da, dt, g, start);
+      const auto minus = propagateNominal(x, m.gyro - dg, m.accel - da, dt, g, start);
+      const Eigen::Matrix<double, 15, 1> col =
+          (stateError(ref.state, plus.state) - stateError(ref.state, minus.state)) / (2 * eps);
+      // B is d(error)/d(noise) with error = truth (-) estimate and measurement = truth + noise,
+      // so perturbing the measurement moves the estimate by -B.
+      EXPECT_LT((col + ref.B.col(i)).norm(), 1e-7) << "noise column " << i;
+    }
   }
 }
 

@@ -171,5 +171,18 @@ TEST(ImoPipeline, BadConfigValuesAreInputErrors) {
   EXPECT_THROW(make("model_ekf", "method: model_ekf\nmodel: {linear_drag: [0.3, 0.2]}\n"), InputError);
 }
 
+// A network without covariance (the IMO release's, output_sigma none) needs the filter's sigma.
+TEST(ImoPipeline, SourceCovarianceFromANetworkWithoutOneIsAnInputError) {
+  const std::string net = "network: {weights: " + std::string(HDVIO_SOURCE_DIR) +
+                          "/test/learned/data/imo_release_tiny.tcn}\n";
+  EXPECT_NO_THROW(make("imo", "method: imo\n" + net + "filter: {use_source_covariance: false}\n"));
+  try {
+    make("imo", "method: imo\n" + net + "filter: {use_source_covariance: true}\n");
+    ADD_FAILURE() << "accepted use_source_covariance without a covariance";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has no covariance"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace hdvio::run

@@ -2,6 +2,7 @@
 // displacements correcting a noisy biased IMU, network-only (the model source: drag_model_test).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "analytic_trajectory.h"
@@ -64,6 +65,64 @@ TEST(ImoRunner, UpdatesBetweenClonesOneWindowApartOnTheGrid) {
   // The orientation handed to the source is the filter's attitude (here: nearly exact).
   EXPECT_LT(max_rotation_error, 1e-3);
   EXPECT_EQ(out.states.size(), imu.size());
+}
+
+// filter.release_propagation (scekf.propagate of the IMO release). Level, gravity-cancelling
+// accelerometer with a ramp in x, a_k = 0.1 k m/s^2 at t_k = k dt: the two samples' mean
+// integrates v_x = 0.1 dt N^2 / 2 over N steps, the sample hold 0.1 dt N (N + 1) / 2.
+TEST(ImoRunner, ReleasePropagationHoldsTheNewerSampleAndTheStartAttitude) {
+  const double dt = 0.01;
+  const int n = 40;
+  std::vector<ImuSample> imu;
+  for (int k = 0; k <= n; ++k) imu.push_back({fromSeconds(k * dt), Vec3::Zero(), Vec3(0.1 * k, 0.0, 9.81)});
+  NavState init;
+  init.t = 0;
+  init.T_WB = Pose(Mat3::Identity(), Vec3::Zero());
+  init.v_W = Vec3::Zero();
+  const DisplacementSource none = [](const DisplacementRequest&) { return std::optional<DisplacementEstimate>(); };
+  ImoRunOptions o;
+  const double v_mid = runImoFilter(imu, init, o, none).states.back().v_W.x();
+  o.filter.release_propagation = true;
+  const double v_hold = runImoFilter(imu, init, o, none).states.back().v_W.x();
+  EXPECT_NEAR(v_mid, 0.1 * dt * n * n / 2.0, 1e-9);
+  EXPECT_NEAR(v_hold, 0.1 * dt * n * (n + 1) / 2.0, 1e-9);
+
+  // Constant yaw rate 1 rad/s, body specific force (1, 0, g): the release's first-order step
+  // rotates it with the step's start attitude, v_x = sum_k cos(k dt) dt; the default step with
+  // the mid-step attitude, sum_k cos((k + 1/2) dt) dt.
+  for (auto& s : imu) {
+    s.gyro = Vec3(0.0, 0.0, 1.0);
+    s.accel = Vec3(1.0, 0.0, 9.81);
+  }
+  double v_start = 0.0, v_midstep = 0.0;
+  for (int k = 0; k < n; ++k) {
+    v_start += std::cos(k * dt) * dt;
+    v_midstep += std::cos((k + 0.5) * dt) * dt;
+  }
+  EXPECT_NEAR(runImoFilter(imu, init, o, none).states.back().v_W.x(), v_start, 1e-9);
+  o.filter.release_propagation = false;
+  EXPECT_NEAR(runImoFilter(imu, init, o, none).states.back().v_W.x(), v_midstep, 1e-9);
+  EXPECT_GT(std::abs(v_start - v_midstep), 1e-4);
+}
+
+// initial_window_biases: the window's biases stay the initial ones while updates move the
+// filter's estimate (which the default hands to the source).
+TEST(ImoRunner, InitialWindowBiasesStayFixed) {
+  const auto imu = simulateImu(100.0, 2.0);
+  NavState init = exactNavState(0);
+  init.bias << 0.01, -0.02, 0.005, 0.1, 0.0, -0.1;
+  for (bool fixed : {false, true}) {
+    std::vector<DisplacementRequest> log;
+    ImoRunOptions o;
+    o.initial_window_biases = fixed;
+    runImoFilter(imu, init, o, groundTruthSource(0.01, &log));
+    ASSERT_GT(log.size(), 10u);
+    double moved = 0.0;
+    for (const auto& r : log)
+      moved = std::max(moved, (r.gyro_bias - init.bias.head<3>()).norm() + (r.accel_bias - init.bias.tail<3>()).norm());
+    if (fixed) EXPECT_EQ(moved, 0.0);
+    else EXPECT_GT(moved, 1e-6);
+  }
 }
 
 TEST(ImoRunner, ExactDisplacementsCorrectNoisyBiasedImu) {

@@ -162,7 +162,8 @@ TEST(DisplacementModel, LoadChecksTaskAndSigma) {
   TcnFileInfo no_sigma = displacementInfo();
   no_sigma.output_sigma.clear();
   saveTcnFile(testing::deterministicResidualTcn(), no_sigma, path);
-  EXPECT_THROW(DisplacementModel::load(path), InputError);
+  EXPECT_FALSE(DisplacementModel::load(path).hasCovariance());  // "output_sigma none"
+  EXPECT_TRUE(m.hasCovariance());
   saveTcnWeights(testing::deterministicTcn(), path);  // a residual-force network
   try {
     DisplacementModel::load(path);

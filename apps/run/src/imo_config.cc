@@ -39,6 +39,8 @@ void readImoFilterSection(const ConfigReader& f, const std::string& config_path,
   if (!(run.measurement_sigma.array() > 0.0).all())
     throw InputError(config_path, 0, "filter.measurement_sigma must be positive");
   f.readOptional("use_source_covariance", &run.use_source_covariance);
+  f.readOptional("release_propagation", &o.release_propagation);
+  f.readOptional("initial_window_biases", &run.initial_window_biases);
   f.finish();
 }
 

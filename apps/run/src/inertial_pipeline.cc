@@ -50,6 +50,10 @@ class InertialPipeline : public MethodPipeline {
                          "method " + method_ + " needs a " + (wants_thrust ? "thrust_gyro" : "accel_gyro") +
                              " network, " + weights + " is " + learned::toString(model_->inputKind()));
       options_.window_s = model_->windowSeconds();
+      if (options_.use_source_covariance && !model_->hasCovariance())
+        throw InputError(file.path, 0,
+                         "filter.use_source_covariance is true but " + weights +
+                             " has no covariance (output_sigma none); set filter.measurement_sigma instead");
     }
     const ConfigReader t = cfg.optionalSection("thrust");
     t.readInRange("coefficient_over_mass", &thrust_coefficient_over_mass_, 0.0, 1.0);

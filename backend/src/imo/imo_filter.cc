@@ -19,8 +19,8 @@ Mat3 orthonormalized(const Mat3& R) { return Quat(R).normalized().toRotationMatr
 }  // namespace
 
 PropagationStep propagateNominal(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel,
-                                 double dt, const Vec3& gravity) {
-  const NominalStep s = propagateStep(x, gyro, accel, dt, gravity);
+                                 double dt, const Vec3& gravity, bool start_attitude) {
+  const NominalStep s = propagateStep(x, gyro, accel, dt, gravity, start_attitude);
   return {s.state, s.transition.dense(), s.transition.noiseInput()};
 }
 
@@ -44,7 +44,7 @@ void ImoFilter::propagate(const Vec3& gyro, const Vec3& accel, Timestamp t_next)
   const double dt = secondsBetween(x_.t, t_next);
   if (dt < 0.0) throw std::logic_error("ImoFilter::propagate: time goes backwards");
   if (dt == 0.0) return;
-  const NominalStep s = propagateStep(x_, gyro, accel, dt, options_.gravity);
+  const NominalStep s = propagateStep(x_, gyro, accel, dt, options_.gravity, options_.release_propagation);
   x_ = s.state;
   x_.t = t_next;
 

@@ -37,7 +37,7 @@ Eigen::Matrix<double, 15, 6> StepTransition::noiseInput() const {
 }
 
 NominalStep propagateStep(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel, double dt,
-                          const Vec3& gravity) {
+                          const Vec3& gravity, bool start_attitude) {
   const Vec3 w = gyro - x.bg;
   const Vec3 a = accel - x.ba;
   const Vec3 phi = w * dt;
@@ -45,7 +45,8 @@ NominalStep propagateStep(const ImoNominalState& x, const Vec3& gyro, const Vec3
   // accurate, where the release's R_k is first order (the tests measure both rates).
   const Mat3 M = so3Exp(0.5 * phi);
   const Mat3 dR = M * M;  // Exp(phi), one trigonometric evaluation fewer
-  const Mat3 Rm = x.R * M;
+  const Mat3 Ma = start_attitude ? Mat3::Identity() : M;  // attitude the force is rotated with
+  const Mat3 Rm = x.R * Ma;
   const Vec3 acc_w = Rm * a;
 
   NominalStep s;
@@ -60,8 +61,9 @@ NominalStep propagateStep(const ImoNominalState& x, const Vec3& gyro, const Vec3
   A.dt = dt;
   A.theta_theta = dR.transpose();
   A.theta_bg = -rightJacobian(phi) * dt;
-  A.vel_theta = -Rm_a * M.transpose() * dt;                             // d(acc_w)/d(dtheta) dt
-  A.vel_bg = Rm_a * rightJacobian(0.5 * phi) * (0.5 * dt * dt);         // d(acc_w)/d(dbg) dt
+  A.vel_theta = -Rm_a * Ma.transpose() * dt;                            // d(acc_w)/d(dtheta) dt
+  A.vel_bg = start_attitude ? Mat3::Zero()                              // d(acc_w)/d(dbg) dt
+                            : Mat3(Rm_a * rightJacobian(0.5 * phi) * (0.5 * dt * dt));
   A.vel_ba = -Rm * dt;
   return s;
 }

@@ -79,15 +79,19 @@ ImoRunOutput runImoFilter(const std::vector<ImuSample>& imu, const NavState& ini
   // Gyro integration since the start (filter bias at each step): the relative rotation used to
   // carry a clone's rotation across a network window. Updates do not touch it.
   Quat gamma = Quat::Identity();
+  const Vec3 init_bg = filter.state().bg, init_ba = filter.state().ba;
   RotationHistory history;
   history.add(init.t, gamma);
   filter.addClone();
   out.states.push_back(navFrom(filter.state()));
 
   auto step = [&](const ImuSample& from, const ImuSample& to) {
-    const Vec3 gyro = 0.5 * (from.gyro + to.gyro);
-    const Vec3 accel = 0.5 * (from.accel + to.accel);
-    gamma = (gamma * quatExp((gyro - filter.state().bg) * secondsBetween(from.t, to.t))).normalized();
+    // Release propagation: the interval's newer sample held over it (zero-order hold).
+    const bool hold = options.filter.release_propagation;
+    const Vec3 gyro = hold ? to.gyro : Vec3(0.5 * (from.gyro + to.gyro));
+    const Vec3 accel = hold ? to.accel : Vec3(0.5 * (from.accel + to.accel));
+    const Vec3& bg = options.initial_window_biases ? init_bg : filter.state().bg;
+    gamma = (gamma * quatExp((gyro - bg) * secondsBetween(from.t, to.t))).normalized();
     filter.propagate(gyro, accel, to.t);
     history.add(to.t, gamma);
   };
@@ -105,8 +109,12 @@ ImoRunOutput runImoFilter(const std::vector<ImuSample>& imu, const NavState& ini
     }
     const int j = static_cast<int>(filter.clones().size()) - 1;
     const double t_source = Clock::now();
-    const std::optional<DisplacementEstimate> est =
-        source(windowRequest(filter, history, i, t_begin, t_end));
+    DisplacementRequest request = windowRequest(filter, history, i, t_begin, t_end);
+    if (options.initial_window_biases) {
+      request.gyro_bias = init_bg;
+      request.accel_bias = init_ba;
+    }
+    const std::optional<DisplacementEstimate> est = source(request);
     out.source_s += secondsSince(t_source);
     if (!est) {
       ++out.no_measurement;

@@ -5,6 +5,7 @@
 // filter (backend/) clones states at the window ends and uses the prediction as a
 // relative-position measurement with covariance `covariance`. docs/imo_network.md.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,16 @@ namespace hdvio::learned {
 
 enum class DisplacementInputKind { kThrustGyro, kAccelGyro };  // IMO / TLIO-style
 
+// Where the N samples of the window [t_begin, t_end] sit (the convention the network was trained
+// with): kEnd (hdvio's networks) at t_end - (N-1-k) / rate, so sample k stands for
+// (t_k - 1/rate, t_k]; kBegin (the IMO reference release) at t_begin + k / rate, so the last
+// sample is 1/rate before t_end.
+enum class DisplacementSampleTimes { kEnd, kBegin };
+
 struct DisplacementPrediction {
   Eigen::Vector3d displacement = Eigen::Vector3d::Zero();  // world frame, m, p(t_end) - p(t_end - window)
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // m^2 (fixed from validation error, or a variance head)
+  // m^2 (fixed from validation error, or a variance head); zero when the model has none.
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
 };
 
 // "thrust_gyro" / "accel_gyro" (the spelling of weight files and configs).
@@ -31,9 +39,12 @@ DisplacementInputKind displacementInputKindFromString(const std::string& name);
 class DisplacementModel {
  public:
   // sigma: per-axis standard deviation of the displacement error (m), used as the diagonal
-  // covariance when the network has no variance head. Throws std::invalid_argument if the
-  // network is not a displacement network (6 inputs, 3 outputs) or sigma is not positive.
-  DisplacementModel(Tcn tcn, DisplacementInputKind kind, Eigen::Vector3d sigma);
+  // covariance when the network has no variance head; nullopt: no covariance (the IMO
+  // release's network; the filter then needs its own measurement sigma). Throws
+  // std::invalid_argument if the network is not a displacement network (6 inputs, 3 outputs)
+  // or sigma is not positive.
+  DisplacementModel(Tcn tcn, DisplacementInputKind kind, std::optional<Eigen::Vector3d> sigma,
+                    DisplacementSampleTimes sample_times = DisplacementSampleTimes::kEnd);
 
   static DisplacementModel load(const std::string& path);  // throws InputError naming file and line
 
@@ -42,7 +53,9 @@ class DisplacementModel {
   int windowSamples() const { return tcn_.architecture().window; }               // 50
   double windowSeconds() const { return windowSamples() / sampleRateHz(); }      // 0.5
   Timestamp windowDuration() const { return fromSeconds(windowSeconds()); }
-  const Eigen::Vector3d& sigma() const { return sigma_; }
+  bool hasCovariance() const { return sigma_.has_value() || tcn_.architecture().variance_head; }
+  const std::optional<Eigen::Vector3d>& sigma() const { return sigma_; }
+  DisplacementSampleTimes sampleTimes() const { return sample_times_; }
   const Tcn& tcn() const { return tcn_; }
 
   // window: 6 x windowSamples(), rows [thrust-or-accel xyz; gyro xyz] rotated to the world
@@ -52,12 +65,13 @@ class DisplacementModel {
  private:
   Tcn tcn_;
   DisplacementInputKind kind_;
-  Eigen::Vector3d sigma_;
+  std::optional<Eigen::Vector3d> sigma_;
+  DisplacementSampleTimes sample_times_;
 };
 
-// Time of sample k (0 = oldest) of the window ending at t_end: t_end - (N - 1 - k) / rate.
-// Sample k stands for the interval (t_k - 1/rate, t_k], so the N samples span exactly the
-// window [t_end - windowSeconds(), t_end] whose displacement the network predicts.
+// Time of sample k (0 = oldest) of the window ending at t_end (model.sampleTimes()):
+// kEnd: t_end - (N - 1 - k) / rate; kBegin: t_end - windowSeconds() + k / rate. Either way the
+// samples lie in the window [t_end - windowSeconds(), t_end] whose displacement is predicted.
 Timestamp displacementSampleTime(const DisplacementModel& model, Timestamp t_end, int k);
 
 // World-frame input window ending at t_end: samples at the model's rate (linear interpolation of the IMU and

@@ -15,6 +15,12 @@
 // GELU, plus a skip connection (identity, or a 1x1 convolution when the width changes):
 //   h = GELU(conv_a(x)),  y = GELU(conv_b(h)) + skip(x).
 // Its receptive field is 1 + 2 (k-1) sum(d). No dropout / weight norm at inference.
+//
+// Release variant (architecture.block_relu, the TemporalBlock of Bai et al. as the TLIO and
+// IMO releases use it): ReLU after the residual sum, y = ReLU(GELU(conv_b(h)) + skip(x)).
+// architecture.window_padding allows a receptive field longer than the window: the window's
+// outputs then see the causal zero padding (per convolution input), as they did in training
+// (the IMO release: dilations 1 ... 64, receptive field 255 on a 50-sample window).
 #include <string>
 #include <vector>
 
@@ -39,6 +45,8 @@ struct TcnArchitecture {
   int output_channels = 3;  // residual force, m/s^2 (mass-normalized), body frame
   bool variance_head = false;
   bool residual = false;    // temporal blocks (see above) instead of single convolutions
+  bool block_relu = false;  // residual only: ReLU after the residual sum (release variant)
+  bool window_padding = false;  // receptive field may exceed the window (zero padding seen)
 
   int receptiveField() const;
   // Number of convolutions (2 per layer spec when residual).
@@ -52,6 +60,9 @@ struct TcnArchitecture {
   // 8, 8, 4, 1, 1, 1, 1 (receptive field 49 <= window 50, docs/imo_network.md says why this
   // order), 6 inputs, 3 outputs (world-frame displacement).
   static TcnArchitecture imo(int window = 50, double sample_rate_hz = 100.0);
+  // The IMO reference release's network: the same widths, dilations 1, 2, ..., 64, block_relu,
+  // window_padding (receptive field 255).
+  static TcnArchitecture imoRelease(int window = 50, double sample_rate_hz = 100.0);
 };
 
 struct TcnConvWeights {

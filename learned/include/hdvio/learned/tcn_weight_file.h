@@ -29,6 +29,12 @@
 // with "drag_law <dx> <dy> <dz> <cx> <cy> <cz>" (or "drag_law none") after output_sigma;
 // written only when the info holds a law.
 //
+// Version 4 (the IMO reference release's network, scripts/convert_imo_release_checkpoint.py)
+// is version 3 (drag_law line always present, "none" allowed) with "sample_times end|begin"
+// after drag_law (where a displacement window's samples sit, displacement_model.h) and
+// "block_relu 0|1", "window_padding 0|1" after residual (tcn.h); written only when one of
+// them differs from its default (end, 0, 0).
+//
 // Blank lines and lines starting with '#' are ignored. Any other deviation (missing or extra
 // tensor, wrong shape, unparsable or non-finite number, data after "end") is an InputError
 // naming the file and the line.
@@ -46,6 +52,7 @@ struct TcnFileInfo {
   std::string inputs = "thrust_gyro";  // "thrust_gyro" | "accel_gyro"
   std::vector<double> output_sigma;    // empty or 3 positive values (output units)
   DragLaw drag_law;                    // force networks: the law they complement (none: zero)
+  std::string sample_times = "end";    // "end" | "begin": displacement window sample times
 };
 
 enum class TcnEncoding { kText, kFloat32 };
@@ -55,10 +62,10 @@ struct TcnFile {
   TcnFileInfo info;
 };
 
-// Versions 1 to 3. Version 1 files get the default info.
+// Versions 1 to 4. Version 1 files get the default info.
 TcnFile loadTcnFile(const std::string& path);
 TcnFile parseTcnFile(const std::string& text, const std::string& name);
-// Version 2, or 3 when info holds a drag law.
+// Version 2, 3 when info holds a drag law, 4 with a version-4 field (see above).
 std::string formatTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& comment = "",
                           TcnEncoding encoding = TcnEncoding::kText);
 void saveTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& path,

@@ -41,6 +41,10 @@ struct ImoFilterOptions {
   // factor <= 0 disables the test (the IMO release default).
   double mahalanobis_factor = -1.0;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+  // Propagate as the IMO release's scekf.propagate: each IMU interval takes its newer sample
+  // (zero-order hold, in runImoFilter) and the specific force is rotated with the attitude at
+  // the step's start (first order). false: the two samples' mean, mid-step attitude.
+  bool release_propagation = false;
 };
 
 struct ImoClone {
@@ -75,7 +79,8 @@ struct PropagationStep {
   Eigen::Matrix<double, kStateDim, 6> B;
 };
 PropagationStep propagateNominal(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel,
-                                 double dt, const Vec3& gravity);
+                                 double dt, const Vec3& gravity,
+                                 bool start_attitude = false);
 
 class ImoFilter {
  public:

@@ -45,9 +45,10 @@ struct NominalStep {
 };
 
 // Nominal state after dt with bias-free rates held constant over the step (specific force
-// rotated with the mid-step attitude) and its transition.
+// rotated with the mid-step attitude, or with the start attitude when start_attitude: the
+// IMO release's first-order step) and its transition.
 NominalStep propagateStep(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel, double dt,
-                          const Vec3& gravity);
+                          const Vec3& gravity, bool start_attitude = false);
 
 // X <- A X for any 15-row block (the lazily accumulated transition product).
 void applyTransition(const StepTransition& A, Mat15* X);

@@ -22,6 +22,11 @@ struct ImoRunOptions {
   // uses a constant 0.01 m per axis).
   bool use_source_covariance = false;
   Vec3 measurement_sigma = Vec3::Constant(0.01);
+  // Biases removed from the network window's IMU samples and from its gyro-integrated
+  // rotations: false = the filter's current estimate; true = the initial biases (the IMO
+  // release subtracts its fixed offline calibration there, the filter's estimate only in
+  // propagation).
+  bool initial_window_biases = false;
 };
 
 struct ImoRunOutput {
