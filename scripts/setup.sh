@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hdvio needs. Idempotent: packages already present are skipped.
 # Usage: scripts/setup.sh [--with-torch] [--with-openvins]   (--with-torch adds libtorch for the
-# trainer and python3-torch for scripts/make_imo_release_parity_fixture.py; --with-openvins the
+# trainer; --with-openvins the
 # Boost parts the OpenVINS peer of config/bench/sim_images.yaml needs, built by
 # ../shared/peers/openvins/build.sh, see docs/bench.md "Peers")
 set -euo pipefail
@@ -19,7 +19,7 @@ packages=(
 )
 for arg in "$@"; do
   case "$arg" in
-    --with-torch) packages+=(libtorch-dev python3-torch) ;;
+    --with-torch) packages+=(libtorch-dev) ;;
     --with-openvins)
       packages+=(libboost-system-dev libboost-filesystem-dev libboost-thread-dev libboost-date-time-dev) ;;
     *) echo "setup.sh: unknown argument '$arg' (expected --with-torch or --with-openvins)" >&2; exit 2 ;;
