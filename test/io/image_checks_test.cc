@@ -30,7 +30,7 @@ class ImageChecks : public ::testing::Test {
     return m;
   }
   ImageRef write(const std::string& name, const cv::Mat& pixels) {
-    ImageRef ref{7, dir_ / name, dir_ / "cam0/data.csv", 12};
+    ImageRef ref{7, dir_ / name, std::nullopt, dir_ / "cam0/data.csv", 12};
     EXPECT_TRUE(cv::imwrite(ref.path, pixels));
     return ref;
   }
