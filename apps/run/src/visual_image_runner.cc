@@ -11,7 +11,7 @@
 #include "hdvio/factors/imu_preintegration.h"
 #include "hdvio/frontend/gyro_prior.h"
 #include "hdvio/frontend/semi_direct_frontend.h"
-#include "hdvio/io/image.h"
+#include "hdvio/io/image_prefetcher.h"
 #include "hdvio/run/init_feature_tracker.h"
 #include "hdvio/run/progress.h"
 
@@ -116,26 +116,27 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
   int lost_run = 0;
   Timestamp prev_image_t = 0;
   double backend_s = 0.0;
+  // Decoding runs on one I/O thread ahead of the estimator; load_ms is what this thread waited.
+  io::ImagePrefetcher images(seq.images);
   for (const ImageRef& ref : seq.images) {
     if (log) progress.update(ref.t);
     feed_until(ref.t);
     const bool first = !backend.initialized();
-    cv::Mat pixels;
-    double load_ms = 0.0;
-    const auto load = [&] {
-      const auto t_load = Clock::now();
-      pixels = io::loadImage(ref);
-      load_ms = 1e3 * secondsSince(t_load);
-    };
+    const double waited_before = images.waitSeconds();
+    const cv::Mat pixels = images.take();
+    const double load_ms = 1e3 * (images.waitSeconds() - waited_before);
+    bool load_counted = false;  // an image the initialization tracker saw counts there
     if (first) {
       FrameObservations tracks{ref.t, {}};
       if (starter.needsObservations()) {
-        load();
+        load_counted = true;
         out.load_time_s += load_ms * 1e-3;
         ++out.init_images;
+        const auto t_init = Clock::now();
+        tracks = init_tracker.track(ref.t, pixels);
+        out.init_time_s += secondsSince(t_init);
       }
       const auto t_init = Clock::now();
-      if (!pixels.empty()) tracks = init_tracker.track(ref.t, pixels);
       const std::optional<NavState> initial = starter.addFrame(tracks);
       out.init_time_s += secondsSince(t_init);
       if (!initial) continue;
@@ -146,14 +147,10 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
       out.vio.vi_init_attempts = starter.viInitAttempts();
       if (const ViInitResult* r = starter.viInitResult()) out.vio.vi_init = *r;
       if (log) logStart(out.vio, seq.images.front().t);
-      if (pixels.empty()) load();
-      else load_ms = 0.0;  // already counted with the initialization images
-    } else {
-      load();
     }
     ImageFrameRecord rec;
     rec.t = ref.t;
-    rec.load_ms = load_ms;
+    rec.load_ms = load_counted ? 0.0 : load_ms;
     frontend::ImageFrame image{ref.t, pixels};
 
     const NavState latest = backend.latestState();

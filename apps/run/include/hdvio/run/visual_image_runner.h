@@ -2,8 +2,8 @@
 // A visual backend (vio, vimo, vid, hdvio) on camera images: the semi-direct frontend tracks
 // every image and hands its landmark observations to the sliding-window backend, which in turn
 // gives the frontend its IMU-predicted pose as prior and its optimized keyframes and landmarks
-// back (so the frontend's map stays metric). Synchronous and deterministic: one image at a
-// time, frontend then backend.
+// back (so the frontend's map stays metric). Deterministic: one image at a time, frontend then
+// backend; only PNG decoding runs ahead on one I/O thread (io::ImagePrefetcher).
 //
 // Start: VioStarter (backend/vio_starter.h) as on landmark tracks. Until it decides, images go
 // to a KLT tracker (init_feature_tracker.h) whose tracks feed the visual-inertial
@@ -32,7 +32,7 @@ struct ImageFrameRecord {
   int tracked_features = 0;
   int frontend_keyframe = 0;     // 1 when the frontend took a keyframe
   double frontend_ms = 0.0;      // wall time of SemiDirectFrontend::track
-  double load_ms = 0.0;          // image decoding
+  double load_ms = 0.0;          // waiting for the I/O thread's decoded image
 };
 
 struct ImageRunOutput {
