@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hdvio needs. Idempotent: packages already present are skipped.
-# Usage: scripts/setup.sh [--with-torch]   (--with-torch adds libtorch for the trainer)
+# Usage: scripts/setup.sh [--with-torch] [--with-fuzz]
+#   --with-torch adds libtorch for the trainer; --with-fuzz clang-14 and libFuzzer (scripts/fuzz.sh)
 set -euo pipefail
 
 packages=(
@@ -17,7 +18,8 @@ packages=(
 for arg in "$@"; do
   case "$arg" in
     --with-torch) packages+=(libtorch-dev) ;;
-    *) echo "setup.sh: unknown argument '$arg' (expected --with-torch)" >&2; exit 2 ;;
+    --with-fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
+    *) echo "setup.sh: unknown argument '$arg' (expected --with-torch or --with-fuzz)" >&2; exit 2 ;;
   esac
 done
 
