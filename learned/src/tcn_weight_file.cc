@@ -51,6 +51,9 @@ class LineCursor {
   long line() const { return line_; }
   // The next n raw bytes (binary tensor data); false if the text ends first.
   bool rawBytes(std::size_t n, std::string* out) {
+    // The count comes from the file: allocate only what the text can still hold.
+    const std::streamsize left = in_.rdbuf()->in_avail();
+    if (left < 0 || static_cast<std::size_t>(left) < n) return false;
     out->resize(n);
     in_.read(out->data(), static_cast<std::streamsize>(n));
     return static_cast<std::size_t>(in_.gcount()) == n;

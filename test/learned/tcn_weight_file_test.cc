@@ -1,4 +1,8 @@
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <regex>
 
@@ -107,6 +111,36 @@ TEST_F(MalformedWeights, NonPositiveInputStd) {
 
 TEST_F(MalformedWeights, ContentAfterEnd) {
   expectFailure(good_ + "matrix extra 1 1\n", -1, "after \"end\"");
+}
+
+// Seen while writing fuzz_tcn_weights (docs/fuzzing.md): "data <count>" allocated 4 * count
+// bytes (up to 1 GiB) before looking whether the file holds them. In a child limited to 256 MiB
+// more address space than it has, the short file must still be a plain InputError.
+int parseWithLittleAddressSpace(const std::string& text) {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0;
+  statm >> pages;
+  const rlim_t limit = static_cast<rlim_t>(pages) * sysconf(_SC_PAGESIZE) + (rlim_t{256} << 20);
+  const rlimit rl{limit, limit};
+  setrlimit(RLIMIT_AS, &rl);
+  try {
+    parseTcnFile(text, "huge.tcn");
+  } catch (const InputError& e) {
+    return std::string(e.what()).find("inside the float32 data") != std::string::npos ? 0 : 3;
+  } catch (const std::bad_alloc&) {
+    return 4;
+  }
+  return 5;
+}
+
+TEST(TcnWeightFile, Float32CountBeyondTheFileIsRejectedBeforeAllocating) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves address space beyond any RLIMIT_AS";
+#else
+  std::string text = formatTcnFile(testing::deterministicTcn(), TcnFileInfo{}, "", TcnEncoding::kFloat32);
+  text = text.substr(0, text.find("\ndata ") + 1) + "data 268435455\n" + std::string(64, '\0');
+  EXPECT_EXIT(std::exit(parseWithLittleAddressSpace(text)), ::testing::ExitedWithCode(0), "");
+#endif
 }
 
 }  // namespace
