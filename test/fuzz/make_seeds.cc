@@ -16,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bag_writer.h"
+#include "hdf5_dataset_writer.h"
 #include "fuzz_common.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/learned/tcn_weight_file.h"
@@ -150,15 +151,6 @@ void bagSeeds() {
   seed("fuzz_ros_bag", "compressed_image_odometry", w.finish());
 }
 
-void writeDataset(hid_t file, const char* name, const std::vector<double>& v, hsize_t cols) {
-  const hsize_t dims[2] = {v.size() / cols, cols};
-  const hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
-  const hid_t d = H5Dcreate2(file, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-  H5Dclose(d);
-  H5Sclose(space);
-}
-
 void hdf5Seeds() {
   const std::size_t n = 6;
   std::vector<double> ts, v3, rpm, q;
@@ -171,13 +163,13 @@ void hdf5Seeds() {
   for (bool dido : {false, true}) {
     const std::string path = (out_root / "tmp.hdf5").string();
     const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    writeDataset(f, "ts", ts, 1);
+    io::test::writeDataset(f, "ts", ts, 1);
     for (const char* name : dido ? std::vector<const char*>{"gyr", "acc", "gt_p", "gt_v"}
                                  : std::vector<const char*>{"gyro_calib", "accel_calib", "thrust"})
-      writeDataset(f, name, v3, 3);
+      io::test::writeDataset(f, name, v3, 3);
     if (dido) {
-      writeDataset(f, "meas_rpm", rpm, 4);
-      writeDataset(f, "gt_q", q, 4);
+      io::test::writeDataset(f, "meas_rpm", rpm, 4);
+      io::test::writeDataset(f, "gt_q", q, 4);
     }
     H5Fclose(f);
     seed("fuzz_hdf5_raw", dido ? "dido" : "blackbird", readFile(path));

@@ -12,6 +12,7 @@
 #include "hdvio/io/asl.h"
 #include "hdvio/io/datasets.h"
 #include "hdvio/io/sequence_reader.h"
+#include "hdf5_dataset_writer.h"
 #include "test_data.h"
 
 namespace hdvio::io {
@@ -286,14 +287,7 @@ TEST(MalformedDatasets, NotAnHdf5File) {
   EXPECT_EQ(run(std::string(HDVIO_INFO_BIN) + " " + (dir / "seq"), &err), 2);
 }
 
-void writeDataset(hid_t file, const char* name, const std::vector<double>& v, hsize_t cols) {
-  const hsize_t dims[2] = {v.size() / cols, cols};
-  const hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
-  const hid_t d = H5Dcreate2(file, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-  H5Dclose(d);
-  H5Sclose(space);
-}
+using test::writeDataset;
 
 // A small Blackbird-layout file built from the first real rows, then corrupted.
 TEST(MalformedDatasets, BlackbirdHdf5Errors) {
