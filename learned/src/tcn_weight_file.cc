@@ -80,7 +80,9 @@ class LineCursor {
     char* end = nullptr;
     const double v = std::strtod(s.c_str(), &end);
     if (end == s.c_str() || *end != '\0') fail("'" + s + "' is not a number");
-    if (!std::isfinite(v) || std::fabs(v) > 3.0e38) fail("'" + s + "' is not a finite float");
+    // Up to the largest float as the writer prints it (%.9g), so every float the float32
+    // encoding holds can be written as text and read back.
+    if (!std::isfinite(v) || std::fabs(v) > 3.40282347e38) fail("'" + s + "' is not a finite float");
     return v;
   }
 

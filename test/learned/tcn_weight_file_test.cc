@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <regex>
 
 #include <gtest/gtest.h>
@@ -111,6 +112,23 @@ TEST_F(MalformedWeights, NonPositiveInputStd) {
 
 TEST_F(MalformedWeights, ContentAfterEnd) {
   expectFailure(good_ + "matrix extra 1 1\n", -1, "after \"end\"");
+}
+
+// Found by fuzz_tcn_weights (docs/fuzzing.md): a float32 file may hold any finite float, but
+// the text reader refused magnitudes above 3.0e38, so such a network saved as text was rejected.
+TEST(TcnWeightFile, LargestFloatsRoundTripThroughText) {
+  Tcn tcn = testing::deterministicTcn();
+  TcnWeights w = tcn.weights();
+  w.head_weight(0, 0) = -3.38953119e38f;
+  w.head_weight(1, 0) = std::numeric_limits<float>::max();
+  w.head_weight(2, 0) = -std::numeric_limits<float>::max();
+  const Tcn big(tcn.architecture(), w);
+  for (TcnEncoding encoding : {TcnEncoding::kText, TcnEncoding::kFloat32}) {
+    const TcnFile back = parseTcnFile(formatTcnFile(big, TcnFileInfo{}, "", encoding), "big.tcn");
+    EXPECT_TRUE(back.tcn.weights().head_weight == w.head_weight);
+  }
+  expectFailure(formatTcnWeights(big).replace(formatTcnWeights(big).find("-3.38953119e+38"), 15, "3.4028236e+38"),
+                -1, "not a finite float");
 }
 
 // Seen while writing fuzz_tcn_weights (docs/fuzzing.md): "data <count>" allocated 4 * count
