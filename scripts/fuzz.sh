@@ -44,9 +44,13 @@ run_one() {
   mkdir -p "$crashes" "$corpus" "$seeds/$t" "$(dirname "$log")"
   local committed=()
   [[ -d test/fuzz/seeds/$t ]] && committed=("test/fuzz/seeds/$t")
+  # libhdf5 leaks its own allocations on some corrupt files (no project frame in the report,
+  # docs/fuzzing.md): leaks are not checked where libhdf5's parser is the target.
+  local extra=()
+  [[ $t == fuzz_hdf5_raw ]] && extra=(-detect_leaks=0)
   # -malloc_limit_mb: no input of a few KiB may make a reader allocate 512 MiB at once.
   nice "$build/test/fuzz/$t" -max_total_time=$((minutes * 60)) -rss_limit_mb=2048 -malloc_limit_mb=512 \
-    -timeout=10 -print_final_stats=1 -artifact_prefix="$crashes/" "$corpus" "$seeds/$t" "${committed[@]}" \
+    -timeout=10 -print_final_stats=1 "${extra[@]}" -artifact_prefix="$crashes/" "$corpus" "$seeds/$t" "${committed[@]}" \
     >"$log" 2>&1 || true
 }
 
