@@ -1,8 +1,6 @@
 // Broken bags and topic maps: every problem is one InputError naming the file and the problem,
 // and the tools exit with code 2 without writing anything.
 #include <gtest/gtest.h>
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -11,6 +9,7 @@
 #include <fstream>
 #include <limits>
 
+#include "../common/address_space_limit.h"
 #include "../common/run_command.h"
 #include "bag_flight.h"
 #include "hdvio/core/error.h"
@@ -163,12 +162,7 @@ TEST_F(BrokenBag, CompressionProblems) {
 // allocate (and zero) 1 GiB before decompressing a few bytes. In a child limited to 256 MiB
 // more address space than it has, both must still be plain InputErrors.
 int readWithLittleAddressSpace(const std::string& bag, const ReadOptions& o, const std::string& what) {
-  std::ifstream statm("/proc/self/statm");
-  long pages = 0;
-  statm >> pages;
-  const rlim_t limit = static_cast<rlim_t>(pages) * sysconf(_SC_PAGESIZE) + (rlim_t{256} << 20);
-  const rlimit rl{limit, limit};
-  setrlimit(RLIMIT_AS, &rl);
+  hdvio::test::limitAddressSpaceGrowth(std::size_t{256} << 20);
   try {
     readSequence(bag, o);
   } catch (const InputError& e) {

@@ -1,6 +1,3 @@
-#include <sys/resource.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -9,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../common/address_space_limit.h"
 #include "deterministic_tcn.h"
 #include "hdvio/core/error.h"
 #include "hdvio/learned/tcn_weight_file.h"
@@ -135,12 +133,7 @@ TEST(TcnWeightFile, LargestFloatsRoundTripThroughText) {
 // bytes (up to 1 GiB) before looking whether the file holds them. In a child limited to 256 MiB
 // more address space than it has, the short file must still be a plain InputError.
 int parseWithLittleAddressSpace(const std::string& text) {
-  std::ifstream statm("/proc/self/statm");
-  long pages = 0;
-  statm >> pages;
-  const rlim_t limit = static_cast<rlim_t>(pages) * sysconf(_SC_PAGESIZE) + (rlim_t{256} << 20);
-  const rlimit rl{limit, limit};
-  setrlimit(RLIMIT_AS, &rl);
+  hdvio::test::limitAddressSpaceGrowth(std::size_t{256} << 20);
   try {
     parseTcnFile(text, "huge.tcn");
   } catch (const InputError& e) {
