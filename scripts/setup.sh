@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hdvio needs. Idempotent: packages already present are skipped.
-# Usage: scripts/setup.sh [--with-torch] [--with-openvins]   (--with-torch adds libtorch for the
-# trainer; --with-openvins the
-# Boost parts the OpenVINS peer of config/bench/sim_images.yaml needs, built by
-# ../shared/peers/openvins/build.sh, see docs/bench.md "Peers")
+# Usage: scripts/setup.sh [--with-torch] [--with-openvins] [--with-fuzz]
+#   --with-torch adds libtorch for the trainer; --with-fuzz clang-14 and libFuzzer (scripts/fuzz.sh);
+#   --with-openvins the Boost parts the OpenVINS peer of config/bench/sim_images.yaml needs, built by
+#   ../shared/peers/openvins/build.sh (docs/bench.md "Peers")
 set -euo pipefail
 
 packages=(
@@ -22,7 +22,8 @@ for arg in "$@"; do
     --with-torch) packages+=(libtorch-dev) ;;
     --with-openvins)
       packages+=(libboost-system-dev libboost-filesystem-dev libboost-thread-dev libboost-date-time-dev) ;;
-    *) echo "setup.sh: unknown argument '$arg' (expected --with-torch or --with-openvins)" >&2; exit 2 ;;
+    --with-fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
+    *) echo "setup.sh: unknown argument '$arg' (expected --with-torch, --with-openvins or --with-fuzz)" >&2; exit 2 ;;
   esac
 done
 

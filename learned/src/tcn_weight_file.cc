@@ -52,6 +52,9 @@ class LineCursor {
   long line() const { return line_; }
   // The next n raw bytes (binary tensor data); false if the text ends first.
   bool rawBytes(std::size_t n, std::string* out) {
+    // The count comes from the file: allocate only what the text can still hold.
+    const std::streamsize left = in_.rdbuf()->in_avail();
+    if (left < 0 || static_cast<std::size_t>(left) < n) return false;
     out->resize(n);
     in_.read(out->data(), static_cast<std::streamsize>(n));
     return static_cast<std::size_t>(in_.gcount()) == n;
@@ -78,7 +81,9 @@ class LineCursor {
     char* end = nullptr;
     const double v = std::strtod(s.c_str(), &end);
     if (end == s.c_str() || *end != '\0') fail("'" + s + "' is not a number");
-    if (!std::isfinite(v) || std::fabs(v) > 3.0e38) fail("'" + s + "' is not a finite float");
+    // Up to the largest float as the writer prints it (%.9g), so every float the float32
+    // encoding holds can be written as text and read back.
+    if (!std::isfinite(v) || std::fabs(v) > 3.40282347e38) fail("'" + s + "' is not a finite float");
     return v;
   }
 

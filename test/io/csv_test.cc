@@ -79,6 +79,26 @@ TEST(Csv, SecondsToNanosecondsIsExact) {
   EXPECT_FALSE(parseSecondsToNs(".", &ns));
 }
 
+// Ten whole-second digits passed the digit limit, and whole * 1e9 overflowed int64 (undefined
+// behaviour) instead of falling back to the range check (docs/fuzzing.md).
+TEST(Csv, SecondsBeyondInt64NanosecondsAreOutOfRange) {
+  Timestamp ns = 0;
+  EXPECT_FALSE(parseSecondsToNs("9999999999.5", &ns));
+  EXPECT_FALSE(parseSecondsToNs("-9223372036", &ns));
+  ASSERT_TRUE(parseSecondsToNs("9223372035.999999999", &ns));
+  EXPECT_EQ(ns, 9223372035999999999LL);
+  CsvReader csv(writeTemp("far.txt", "# ts x\n9999999999.5 1\n"), ' ');
+  csv.readHeader(true);
+  ASSERT_TRUE(csv.next());
+  try {
+    csv.secondsAsNs(0);
+    ADD_FAILURE() << "accepted 9999999999.5 s";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(e.problem().find("time out of range"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Csv, WhitespaceDelimitedText) {
   CsvReader csv(writeTemp("f.txt", "# ts x y\n1.25  2 3\n"), ' ');
   const auto header = csv.readHeader(true);

@@ -13,6 +13,7 @@
 #include "hdvio/io/datasets.h"
 #include "hdvio/io/sequence_reader.h"
 #include "euroc_copy.h"
+#include "hdf5_dataset_writer.h"
 #include "test_data.h"
 
 namespace hdvio::io {
@@ -195,6 +196,29 @@ TEST_F(EurocCopy, InconsistentCameraCalibration) {
   expectError(f, 10, "rotation part is not orthonormal");
 }
 
+// Bugs met while fuzzing the readers (docs/fuzzing.md). Stamps of opposite sign overflowed
+// t - previous in the gap check (undefined), which wrapped to a negative gap and let it pass.
+TEST_F(EurocCopy, ImuStampsFarApartAreAGap) {
+  const std::string f = mav0("imu0/data.csv");
+  auto lines = readLines(f);
+  lines[1] = "-9000000000000000000" + lines[1].substr(lines[1].find(','));
+  lines[2] = "9000000000000000000" + lines[2].substr(lines[2].find(','));
+  writeLines(f, lines);
+  expectError(f, 3, "IMU gap of inf s");
+}
+
+// A resolution beyond int was cast to int before the check (undefined behaviour; on
+// x86 the check still failed, so only a UBSan build, scripts/test.sh --sanitize, tells).
+TEST_F(EurocCopy, CameraResolutionBeyondInt) {
+  const std::string f = mav0("cam0/sensor.yaml");
+  auto lines = readLines(f);
+  for (auto& l : lines) {
+    if (l.rfind("resolution:", 0) == 0) l = "resolution: [1e300, 480]";
+  }
+  writeLines(f, lines);
+  expectError(f, 17, "expected two positive integers");
+}
+
 TEST_F(EurocCopy, MissingImuFolder) {
   fs::remove_all(mav0("imu0"));
   try {
@@ -242,14 +266,7 @@ TEST(MalformedDatasets, NotAnHdf5File) {
   EXPECT_EQ(run(std::string(HDVIO_INFO_BIN) + " " + (dir / "seq"), &err), 2);
 }
 
-void writeDataset(hid_t file, const char* name, const std::vector<double>& v, hsize_t cols) {
-  const hsize_t dims[2] = {v.size() / cols, cols};
-  const hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
-  const hid_t d = H5Dcreate2(file, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-  H5Dclose(d);
-  H5Sclose(space);
-}
+using test::writeDataset;
 
 // A small Blackbird-layout file built from the first real rows, then corrupted.
 TEST(MalformedDatasets, BlackbirdHdf5Errors) {
@@ -300,6 +317,55 @@ TEST(MalformedDatasets, BlackbirdHdf5Errors) {
     EXPECT_EQ(e.file(), h5 + "[ts]");
     EXPECT_EQ(e.line(), 12);
     EXPECT_NE(e.problem().find("non-monotonic"), std::string::npos) << e.what();
+  }
+}
+
+// fuzz_hdf5_datasets / fuzz_hdf5_raw: a chunked dataset that was never written declares its
+// shape in a few bytes; the reader allocated rows x cols doubles for it (std::length_error or
+// bad_alloc escaping the reader, or an overflowed product). The shape is now bounded.
+TEST(MalformedDatasets, HugeDeclaredShapeIsAnInputError) {
+  const test::TempDir dir("h5shape");
+  fs::create_directories(dir / "seq");
+  const std::string h5 = dir / "seq/data.hdf5";
+  for (const hsize_t rows : {hsize_t{1} << 40, hsize_t{1} << 62}) {
+    const hid_t f = H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t dims[1] = {rows}, chunk[1] = {64};
+    const hid_t space = H5Screate_simple(1, dims, nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(dcpl, 1, chunk);
+    H5Dclose(H5Dcreate2(f, "ts", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT));
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    H5Fclose(f);
+    ASSERT_LT(fs::file_size(h5), 10000u);
+    for (bool dido : {false, true}) {
+      try {
+        dido ? readDido(dir / "seq") : readBlackbird(dir / "seq");
+        ADD_FAILURE() << "accepted a dataset of " << rows << " rows";
+      } catch (const InputError& e) {
+        EXPECT_EQ(e.file(), h5 + "[ts]");
+        EXPECT_NE(e.problem().find("larger than the readers accept"), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
+// A time of 1e300 s was converted to int64 ns (undefined behaviour).
+TEST(MalformedDatasets, HdfTimeBeyondInt64Nanoseconds) {
+  const test::TempDir dir("h5time");
+  fs::create_directories(dir / "seq");
+  const std::string h5 = dir / "seq/data.hdf5";
+  const hid_t f = H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  writeDataset(f, "ts", {1.0, 2.0, 1e300}, 1);
+  for (const char* name : {"gyro_calib", "accel_calib", "thrust"}) writeDataset(f, name, std::vector<double>(9, 0.5), 3);
+  H5Fclose(f);
+  try {
+    readBlackbird(dir / "seq");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), h5 + "[ts]");
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(e.problem().find("out of range"), std::string::npos) << e.what();
   }
 }
 

@@ -4,10 +4,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <random>
 
+#include "../common/address_space_limit.h"
 #include "../common/run_command.h"
 #include "bag_flight.h"
 #include "hdvio/core/error.h"
@@ -151,6 +155,40 @@ TEST_F(BrokenBag, CompressionProblems) {
   ASSERT_NE(frame, std::string::npos);
   lz4[frame + 1] = 0x00;  // broken magic
   expectError(lz4, "lz4: ");
+}
+
+// Met while fuzzing (docs/fuzzing.md): a bz2 or lz4 chunk declaring 1 GiB made the reader
+// allocate (and zero) 1 GiB before decompressing a few bytes. In a child limited to 256 MiB
+// more address space than it has, both must still be plain InputErrors.
+int readWithLittleAddressSpace(const std::string& bag, const ReadOptions& o, const std::string& what) {
+  hdvio::test::limitAddressSpaceGrowth(std::size_t{256} << 20);
+  try {
+    readSequence(bag, o);
+  } catch (const InputError& e) {
+    return e.problem().find(what) != std::string::npos ? 0 : 3;
+  } catch (const std::bad_alloc&) {
+    return 4;
+  }
+  return 5;
+}
+
+TEST_F(BrokenBag, ChunkDeclaringAGibibyteIsRejectedBeforeAllocating) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves address space beyond any RLIMIT_AS";
+#else
+  for (const auto& [compression, what] : {std::pair<std::string, std::string>{"bz2", "its header says 1073741823"},
+                                          {"lz4", "declares 1073741823 uncompressed bytes from"}}) {
+    std::string bag = test::flightBag(flight_, compression);
+    const std::size_t size = bag.find("size=", bag.find("compression=" + compression));
+    ASSERT_NE(size, std::string::npos);
+    const std::uint32_t huge = (1u << 30) - 1;
+    std::memcpy(&bag[size + 5], &huge, 4);
+    writeBytes(dir_ / "huge.bag", bag);
+    EXPECT_EXIT(std::exit(readWithLittleAddressSpace(dir_ / "huge.bag", options(), what)),
+                ::testing::ExitedWithCode(0), "")
+        << compression;
+  }
+#endif
 }
 
 TEST_F(BrokenBag, UnindexedBag) {

@@ -1,9 +1,12 @@
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <regex>
 
 #include <gtest/gtest.h>
 
+#include "../common/address_space_limit.h"
 #include "deterministic_tcn.h"
 #include "hdvio/core/error.h"
 #include "hdvio/learned/tcn_weight_file.h"
@@ -107,6 +110,48 @@ TEST_F(MalformedWeights, NonPositiveInputStd) {
 
 TEST_F(MalformedWeights, ContentAfterEnd) {
   expectFailure(good_ + "matrix extra 1 1\n", -1, "after \"end\"");
+}
+
+// Found by fuzz_tcn_weights (docs/fuzzing.md): a float32 file may hold any finite float, but
+// the text reader refused magnitudes above 3.0e38, so such a network saved as text was rejected.
+TEST(TcnWeightFile, LargestFloatsRoundTripThroughText) {
+  Tcn tcn = testing::deterministicTcn();
+  TcnWeights w = tcn.weights();
+  w.head_weight(0, 0) = -3.38953119e38f;
+  w.head_weight(1, 0) = std::numeric_limits<float>::max();
+  w.head_weight(2, 0) = -std::numeric_limits<float>::max();
+  const Tcn big(tcn.architecture(), w);
+  for (TcnEncoding encoding : {TcnEncoding::kText, TcnEncoding::kFloat32}) {
+    const TcnFile back = parseTcnFile(formatTcnFile(big, TcnFileInfo{}, "", encoding), "big.tcn");
+    EXPECT_TRUE(back.tcn.weights().head_weight == w.head_weight);
+  }
+  expectFailure(formatTcnWeights(big).replace(formatTcnWeights(big).find("-3.38953119e+38"), 15, "3.4028236e+38"),
+                -1, "not a finite float");
+}
+
+// Seen while writing fuzz_tcn_weights (docs/fuzzing.md): "data <count>" allocated 4 * count
+// bytes (up to 1 GiB) before looking whether the file holds them. In a child limited to 256 MiB
+// more address space than it has, the short file must still be a plain InputError.
+int parseWithLittleAddressSpace(const std::string& text) {
+  hdvio::test::limitAddressSpaceGrowth(std::size_t{256} << 20);
+  try {
+    parseTcnFile(text, "huge.tcn");
+  } catch (const InputError& e) {
+    return std::string(e.what()).find("inside the float32 data") != std::string::npos ? 0 : 3;
+  } catch (const std::bad_alloc&) {
+    return 4;
+  }
+  return 5;
+}
+
+TEST(TcnWeightFile, Float32CountBeyondTheFileIsRejectedBeforeAllocating) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves address space beyond any RLIMIT_AS";
+#else
+  std::string text = formatTcnFile(testing::deterministicTcn(), TcnFileInfo{}, "", TcnEncoding::kFloat32);
+  text = text.substr(0, text.find("\ndata ") + 1) + "data 268435455\n" + std::string(64, '\0');
+  EXPECT_EXIT(std::exit(parseWithLittleAddressSpace(text)), ::testing::ExitedWithCode(0), "");
+#endif
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <bzlib.h>
 #include <lz4frame.h>
 
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 
@@ -32,6 +33,31 @@ void lz4Decompress(std::string_view data, std::string* out, const std::string& f
   out->resize(out_pos);
 }
 
+// Decompresses in steps of 1 MiB so that memory follows the real output, not the declared
+// size: a few bytes of bag could otherwise make the reader allocate 1 GiB.
+void bz2Decompress(std::string_view data, std::uint32_t size, std::string* out, const std::string& fail_prefix,
+                   const std::string& name) {
+  bz_stream s{};
+  if (BZ2_bzDecompressInit(&s, 0, 0) != BZ_OK) throw std::runtime_error("cannot create a bz2 decompression stream");
+  const std::unique_ptr<bz_stream, int (*)(bz_stream*)> end(&s, BZ2_bzDecompressEnd);
+  s.next_in = const_cast<char*>(data.data());
+  s.avail_in = static_cast<unsigned int>(data.size());
+  out->clear();
+  int rc = BZ_OK;
+  while (rc == BZ_OK && out->size() <= size) {
+    const std::size_t have = out->size();
+    const std::size_t step = std::min<std::size_t>(1u << 20, size - have + 1);  // + 1: sees excess data
+    out->resize(have + step);
+    s.next_out = out->data() + have;
+    s.avail_out = static_cast<unsigned int>(step);
+    rc = BZ2_bzDecompress(&s);
+    out->resize(have + step - s.avail_out);
+    if (rc == BZ_OK && s.avail_in == 0 && s.avail_out > 0) rc = BZ_UNEXPECTED_EOF;
+  }
+  if (rc != BZ_STREAM_END && rc != BZ_OK)
+    throw InputError(name, 0, fail_prefix + "bz2 data cannot be decompressed (error " + std::to_string(rc) + ")");
+}
+
 }  // namespace
 
 void decompressChunk(const std::string& compression, std::string_view data, std::uint32_t size,
@@ -45,13 +71,12 @@ void decompressChunk(const std::string& compression, std::string_view data, std:
   if (compression == "none") {
     out->assign(data);
   } else if (compression == "bz2") {
-    out->resize(size);
-    unsigned int out_len = size;
-    const int rc = BZ2_bzBuffToBuffDecompress(out->data(), &out_len, const_cast<char*>(data.data()),
-                                              static_cast<unsigned int>(data.size()), 0, 0);
-    if (rc != BZ_OK) throw InputError(name, 0, prefix + "bz2 data cannot be decompressed (error " + std::to_string(rc) + ")");
-    out->resize(out_len);
+    bz2Decompress(data, size, out, prefix, name);
   } else if (compression == "lz4") {
+    // An LZ4 sequence expands to at most 255 bytes per input byte; more is corruption.
+    if (size > 255ull * data.size() + 4096)
+      throw InputError(name, 0, prefix + "declares " + std::to_string(size) + " uncompressed bytes from " +
+                                    std::to_string(data.size()) + " bytes of lz4 data");
     out->resize(size);
     lz4Decompress(data, out, prefix + "lz4: ", name);
   } else {

@@ -58,15 +58,17 @@ Sequence readBlackbird(const std::string& path, const ReadOptions& options) {
   const Hdf5Matrix accel = file.readChecked("accel_calib", n, 3);
   const Hdf5Matrix thrust = file.readChecked("thrust", n, 3);
 
-  std::vector<Timestamp> stamps = stampsFromSeconds(ts);
+  std::vector<Timestamp> stamps = stampsFromSeconds(file, ts);
   const fs::path gt_path = folder / "stamped_groundtruth_imu.txt";
   if (fs::exists(gt_path)) {
     seq.groundtruth = readGroundTruthText(gt_path.string(), &seq);
     // The text file carries the same clock with nanosecond digits; the HDF5 doubles only keep
     // ~0.2 us at 1.5e9 s. Use the exact stamps when the rows correspond one to one.
     bool same_rows = seq.groundtruth.size() == ts.rows;
-    for (std::size_t r = 0; same_rows && r < ts.rows; ++r)
-      same_rows = std::llabs(seq.groundtruth[r].t - stamps[r]) < 1000;
+    for (std::size_t r = 0; same_rows && r < ts.rows; ++r) {
+      Timestamp d = 0;  // stamps far apart overflow the difference: then they differ anyway
+      same_rows = !__builtin_sub_overflow(seq.groundtruth[r].t, stamps[r], &d) && d > -1000 && d < 1000;
+    }
     if (same_rows) {
       for (std::size_t r = 0; r < ts.rows; ++r) stamps[r] = seq.groundtruth[r].t;
     }

@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -180,6 +181,10 @@ bool parseSecondsToNs(std::string_view text, Timestamp* ns) {
     }
   }
   if (k != text.size() || (whole_digits == 0 && frac_digits == 0)) return false;
+  // Past this, whole * 1e9 + frac overflows int64; the caller's double fallback then reports
+  // the time as out of range.
+  constexpr long long kMaxWholeSeconds = (INT64_MAX - kNanosPerSecond) / kNanosPerSecond;
+  if (whole > kMaxWholeSeconds) return false;
   for (int d = std::min(frac_digits, 9); d < 9; ++d) frac *= 10;
   Timestamp v = whole * kNanosPerSecond + frac + (round_up ? 1 : 0);
   *ns = negative ? -v : v;

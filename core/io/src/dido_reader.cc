@@ -39,7 +39,7 @@ Sequence readDido(const std::string& path, const ReadOptions& options) {
 
   std::vector<Timestamp> stamps;
   const std::vector<std::size_t> rows =
-      orderedRows(file, stampsFromSeconds(ts), {&gyro, &accel, &rpm}, &stamps, &seq);
+      orderedRows(file, stampsFromSeconds(file, ts), {&gyro, &accel, &rpm}, &stamps, &seq);
   fillImu(file, rows, stamps, gyro, accel, options, &seq);
 
   constexpr double kRpmScale = 1e4 * 2.0 * M_PI / 60.0;  // (rpm / 1e4) -> rad/s

@@ -50,8 +50,12 @@ std::vector<std::string> Hdf5File::datasets() const {
 
 Hdf5Matrix Hdf5File::read(const std::string& name) const {
   if (!has(name)) throw InputError(path_, 0, "missing dataset '" + name + "'");
+  // A chunked dataset that was never written can declare any shape in a few bytes of file;
+  // its values are allocated here, so the shape is bounded (DIDO's longest flight: ~1e6).
+  constexpr hsize_t kMaxValues = hsize_t{1} << 25;  // 256 MiB as doubles
   Hdf5Matrix m;
   bool ok = false;
+  bool too_large = false;
   int ndims = -1;
   H5E_BEGIN_TRY {
     const hid_t d = H5Dopen2(static_cast<hid_t>(id_), name.c_str(), H5P_DEFAULT);
@@ -65,9 +69,12 @@ Hdf5Matrix Hdf5File::read(const std::string& name) const {
         H5Sget_simple_extent_dims(space, dims, nullptr);
         m.rows = dims[0];
         m.cols = ndims == 2 ? dims[1] : 1;
-        m.values.resize(m.rows * m.cols);
-        ok = m.values.empty() ||
-             H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.values.data()) >= 0;
+        too_large = m.rows > kMaxValues || m.cols > kMaxValues || m.rows * m.cols > kMaxValues;
+        if (!too_large) {
+          m.values.resize(m.rows * m.cols);
+          ok = m.values.empty() ||
+               H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.values.data()) >= 0;
+        }
       }
       H5Tclose(type);
       H5Sclose(space);
@@ -75,6 +82,9 @@ Hdf5Matrix Hdf5File::read(const std::string& name) const {
     }
   }
   H5E_END_TRY;
+  if (too_large)
+    throw InputError(where(name), 0, "dataset of " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
+                                         " values is larger than the readers accept (2^25 values)");
   if (!ok) throw InputError(where(name), 0, "cannot read as a 1-D or 2-D numeric dataset");
   return m;
 }

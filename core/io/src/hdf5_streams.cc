@@ -13,9 +13,14 @@ Timestamp secondsToNs(double seconds) {
          static_cast<Timestamp>(std::llround((seconds - whole) * 1e9));
 }
 
-std::vector<Timestamp> stampsFromSeconds(const Hdf5Matrix& ts) {
+std::vector<Timestamp> stampsFromSeconds(const Hdf5File& file, const Hdf5Matrix& ts) {
   std::vector<Timestamp> out(ts.rows);
-  for (std::size_t r = 0; r < ts.rows; ++r) out[r] = secondsToNs(ts(r, 0));
+  for (std::size_t r = 0; r < ts.rows; ++r) {
+    // Converting a double beyond int64's range is undefined, not an error value.
+    if (!(std::fabs(ts(r, 0)) < 9.2e9))
+      throw InputError(file.where("ts"), static_cast<long>(r) + 1, "time " + std::to_string(ts(r, 0)) + " s out of range");
+    out[r] = secondsToNs(ts(r, 0));
+  }
   return out;
 }
 

@@ -12,8 +12,8 @@ namespace hdvio::io {
 // Seconds (double) to integer ns without losing the sub-second digits to a 1e18 product.
 Timestamp secondsToNs(double seconds);
 
-// 'ts' converted to ns, one per row.
-std::vector<Timestamp> stampsFromSeconds(const Hdf5Matrix& ts);
+// 'ts' converted to ns, one per row; throws unless every time fits int64 ns (|t| < 9.2e9 s).
+std::vector<Timestamp> stampsFromSeconds(const Hdf5File& file, const Hdf5Matrix& ts);
 
 // Enforces strictly increasing time (an exact duplicate of the previous
 // row over all the given datasets is dropped and counted). Returns the indices of kept rows.

@@ -158,10 +158,13 @@ CameraCalibration readCameraSensorYaml(const std::string& path) {
   c.T_BS = y.transform("T_BS");
   c.rate_hz = y.number("rate_hz");
   const std::vector<double> res = y.numbers("resolution", 2);
+  // Checked before the cast: a double beyond int's range does not convert.
+  for (double r : res) {
+    if (!(r >= 1.0 && r <= 1e6 && r == std::floor(r)))
+      y.fail(y.node("resolution"), "resolution", "expected two positive integers");
+  }
   c.width = static_cast<int>(res[0]);
   c.height = static_cast<int>(res[1]);
-  if (res[0] != c.width || res[1] != c.height || c.width <= 0 || c.height <= 0)
-    y.fail(y.node("resolution"), "resolution", "expected two positive integers");
   const std::string camera_model = y.text("camera_model");
   if (camera_model != "pinhole")
     y.fail(y.node("camera_model"), "camera_model", "unsupported '" + camera_model + "' (expected pinhole)");

@@ -33,7 +33,9 @@ std::string TimeOrder::warning() const {
 
 void checkImuGap(Timestamp previous, Timestamp t, double max_gap_s, const std::string& file,
                  long line) {
-  const double gap = secondsBetween(previous, t);
+  // Stamps of opposite sign far apart overflow t - previous: that is a gap too long anyway.
+  Timestamp span = 0;
+  const double gap = __builtin_sub_overflow(t, previous, &span) ? HUGE_VAL : secondsBetween(previous, t);
   if (gap > max_gap_s) {
     char buf[160];
     std::snprintf(buf, sizeof(buf), "IMU gap of %.4f s before timestamp %lld exceeds max_imu_gap_s = %g s",
