@@ -11,6 +11,7 @@
 #include "hdvio/factors/imu_preintegration.h"
 #include "hdvio/frontend/gyro_prior.h"
 #include "hdvio/frontend/semi_direct_frontend.h"
+#include "hdvio/io/image.h"
 #include "hdvio/io/image_prefetcher.h"
 #include "hdvio/run/init_feature_tracker.h"
 #include "hdvio/run/progress.h"
