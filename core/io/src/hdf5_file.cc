@@ -15,10 +15,33 @@ herr_t collectName(hid_t, const char* name, const H5L_info_t*, void* out) {
   return 0;
 }
 
+// libhdf5 1.10 trusts a dataset's layout message: a compact or contiguous dataset whose stored
+// bytes are fewer than its shape needs (or lie past the end of the file) is copied out of bounds
+// inside H5Dread, a segfault rather than an error. Chunked datasets are read chunk by chunk
+// through the chunk index, which libhdf5 checks itself.
+bool storageMatchesShape(hid_t d, hid_t space, hid_t type, std::uintmax_t file_size) {
+  const hid_t dcpl = H5Dget_create_plist(d);
+  const H5D_layout_t layout = H5Pget_layout(dcpl);
+  H5Pclose(dcpl);
+  if (layout == H5D_CHUNKED) return true;
+  if (layout != H5D_COMPACT && layout != H5D_CONTIGUOUS) return false;
+  const hssize_t points = H5Sget_simple_extent_npoints(space);
+  const std::size_t value_size = H5Tget_size(type);
+  if (points < 0 || value_size == 0) return false;
+  const hsize_t stored = H5Dget_storage_size(d);
+  if (layout == H5D_CONTIGUOUS) {
+    const haddr_t offset = H5Dget_offset(d);
+    if (offset == HADDR_UNDEF) return stored == 0;  // never written: libhdf5 returns fill values
+    if (offset > file_size || stored > file_size - offset) return false;
+  }
+  return stored == static_cast<hsize_t>(points) * value_size;
+}
+
 }  // namespace
 
 Hdf5File::Hdf5File(const std::string& path) : path_(path) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "no such file");
+  file_size_ = std::filesystem::file_size(path);
   htri_t is_hdf5 = -1;
   hid_t id = -1;
   H5E_BEGIN_TRY {
@@ -56,6 +79,7 @@ Hdf5Matrix Hdf5File::read(const std::string& name) const {
   Hdf5Matrix m;
   bool ok = false;
   bool too_large = false;
+  bool damaged = false;
   int ndims = -1;
   H5E_BEGIN_TRY {
     const hid_t d = H5Dopen2(static_cast<hid_t>(id_), name.c_str(), H5P_DEFAULT);
@@ -70,7 +94,8 @@ Hdf5Matrix Hdf5File::read(const std::string& name) const {
         m.rows = dims[0];
         m.cols = ndims == 2 ? dims[1] : 1;
         too_large = m.rows > kMaxValues || m.cols > kMaxValues || m.rows * m.cols > kMaxValues;
-        if (!too_large) {
+        damaged = !too_large && !storageMatchesShape(d, space, type, file_size_);
+        if (!too_large && !damaged) {
           m.values.resize(m.rows * m.cols);
           ok = m.values.empty() ||
                H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.values.data()) >= 0;
@@ -85,6 +110,9 @@ Hdf5Matrix Hdf5File::read(const std::string& name) const {
   if (too_large)
     throw InputError(where(name), 0, "dataset of " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
                                          " values is larger than the readers accept (2^25 values)");
+  if (damaged)
+    throw InputError(where(name), 0, "damaged dataset: its stored bytes do not match its " + std::to_string(m.rows) +
+                                         " x " + std::to_string(m.cols) + " shape (corrupt file?)");
   if (!ok) throw InputError(where(name), 0, "cannot read as a 1-D or 2-D numeric dataset");
   return m;
 }

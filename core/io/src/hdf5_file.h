@@ -1,5 +1,6 @@
 #pragma once
 // Minimal read-only access to the 1-D / 2-D float datasets of the Blackbird and DIDO files.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,7 @@ class Hdf5File {
 
  private:
   std::string path_;
+  std::uintmax_t file_size_ = 0;
   long long id_ = -1;
 };
 
