@@ -23,7 +23,7 @@
 DEFINE_string(config, "", "experiment YAML (method and the method's sections)");
 DEFINE_string(dataset, "", "ASL folder or supported flight (Blackbird, DIDO, NeuroBEM, ROS bag)");
 DEFINE_string(topics, "", "ROS bags: topic-map YAML (default: EuRoC topics, docs/datasets.md)");
-DEFINE_string(calibration, "", "ROS bags: folder with cam0/sensor.yaml and imu0/sensor.yaml (e.g. an ASL mav0)");
+DEFINE_string(calibration, "", "ROS bags: folder with cam0/ and imu0/sensor.yaml (an ASL mav0), or Kalibr files camchain.yaml,imu.yaml");
 
 DEFINE_string(out, "", "output folder (created; an earlier result there is replaced)");
 DEFINE_bool(evaluate, true, "evaluate against the sequence's ground truth into <out>/evaluation");

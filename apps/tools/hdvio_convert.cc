@@ -13,7 +13,7 @@
 
 DEFINE_string(input, "", "Blackbird / DIDO folder or data.hdf5, NeuroBEM .csv, ROS bag, or ASL folder");
 DEFINE_string(topics, "", "ROS bags: topic-map YAML (default: EuRoC topics, docs/datasets.md)");
-DEFINE_string(calibration, "", "ROS bags: folder with cam0/sensor.yaml and imu0/sensor.yaml (e.g. an ASL mav0)");
+DEFINE_string(calibration, "", "ROS bags: folder with cam0/ and imu0/sensor.yaml (an ASL mav0), or Kalibr files camchain.yaml,imu.yaml");
 
 DEFINE_string(output, "", "Output ASL folder (must be empty or absent unless --force)");
 DEFINE_bool(force, false, "Replace an existing ASL output folder (one holding only mav0/)");

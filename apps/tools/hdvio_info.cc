@@ -14,7 +14,7 @@
 #include "hdvio/io/sequence_reader.h"
 
 DEFINE_string(topics, "", "ROS bags: topic-map YAML (default: EuRoC topics, docs/datasets.md)");
-DEFINE_string(calibration, "", "ROS bags: folder with cam0/sensor.yaml and imu0/sensor.yaml (e.g. an ASL mav0)");
+DEFINE_string(calibration, "", "ROS bags: folder with cam0/ and imu0/sensor.yaml (an ASL mav0), or Kalibr files camchain.yaml,imu.yaml");
 DEFINE_double(max_imu_gap_s, 0.05, "Largest allowed spacing of IMU samples [s]");
 DEFINE_double(thrust_coefficient, 0.0, "Rotor thrust coefficient [N s^2 rad^-2] for rotor-speed datasets (0: none)");
 DEFINE_double(mass, 0.0, "Vehicle mass [kg] overriding the dataset's (0: dataset default)");

@@ -218,7 +218,7 @@ TEST_F(BrokenBag, CalibrationProblems) {
   expectError(test::flightBag(small, "none"), "image 20x10 does not match the calibration 40x30");
   o = options();
   o.calibration = dir_ / "nowhere";
-  expectError(good_, "calibration folder does not exist", o, o.calibration);
+  expectError(good_, "calibration folder or file does not exist", o, o.calibration);
 }
 
 TEST_F(BrokenBag, StrictTopicMap) {

@@ -1,5 +1,5 @@
 // ROS 1 bag -> Sequence: the topic map picks the topics, ros_messages decodes them, the
-// calibration folder adds the sensor.yaml files a bag does not carry.
+// calibration (an ASL folder or Kalibr files) adds what a bag does not carry.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +11,7 @@
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
 #include "hdvio/io/ros_bag.h"
+#include "kalibr_yaml.h"
 #include "ros_messages.h"
 #include "sensor_yaml.h"
 #include "stream_checks.h"
@@ -72,15 +73,15 @@ void emit(std::vector<Pending<Sample>>* pending, const std::string& file, const 
   if (order.duplicates() > 0) seq->warnings.push_back(order.warning());
 }
 
-void readCalibration(const std::string& folder, bool has_images, Sequence* seq) {
-  if (folder.empty()) {
-    if (has_images)
-      throw InputError("--calibration", 0, "the bag holds images but bags carry no calibration: pass "
-                                           "--calibration <folder with cam0/sensor.yaml and imu0/sensor.yaml>");
-    return;
-  }
+// What the calibration adds beyond the sensor files: Kalibr's camera time shift, and whether the
+// camera rate has to come from the image stamps (camchains carry none).
+struct CalibrationExtras {
+  double timeshift_cam_imu = 0.0;
+  bool camera_rate_from_stamps = false;
+};
+
+void readAslCalibration(const std::string& folder, bool has_images, Sequence* seq) {
   fs::path root = folder;
-  if (!fs::is_directory(root)) throw InputError(folder, 0, "calibration folder does not exist");
   if (fs::is_directory(root / "mav0")) root /= "mav0";
   const fs::path cam = root / "cam0" / "sensor.yaml", imu = root / "imu0" / "sensor.yaml";
   if (!fs::exists(imu)) throw InputError(imu.string(), 0, "missing IMU calibration file");
@@ -91,6 +92,71 @@ void readCalibration(const std::string& folder, bool has_images, Sequence* seq) 
   }
   const fs::path rotor = root / "rotor0" / "sensor.yaml";
   if (fs::exists(rotor)) seq->rotor_calibration = readRotorSensorYaml(rotor.string());
+}
+
+CalibrationExtras readKalibrCalibration(const std::string& files, bool has_images, Sequence* seq) {
+  KalibrCalibration k;
+  std::size_t begin = 0;
+  while (begin <= files.size()) {
+    const std::size_t comma = std::min(files.find(',', begin), files.size());
+    const std::string file = files.substr(begin, comma - begin);
+    if (!fs::is_regular_file(file))
+      throw InputError(file.empty() ? "--calibration" : file, 0,
+                       "calibration folder or file does not exist (--calibration takes an ASL folder or Kalibr files: "
+                       "camchain.yaml,imu.yaml[,rotor0 sensor.yaml])");
+    readKalibrYaml(file, &k);
+    begin = comma + 1;
+  }
+  if (!k.imu) throw InputError(files, 0, "no Kalibr IMU file (imu.yaml with the noise densities) among the calibration files");
+  if (has_images && !k.camera)
+    throw InputError(files, 0, "the bag holds images but no Kalibr camchain (camchain-imucam.yaml) was given");
+  seq->imu_calibration = k.imu;
+  seq->rotor_calibration = k.rotor;
+  CalibrationExtras extras;
+  if (has_images) {
+    // The camchain gives camera -> IMU; the sequence wants camera -> body.
+    CameraCalibration camera = *k.camera;
+    camera.T_BS = k.imu->T_BS * camera.T_BS;
+    seq->camera = camera;
+    extras.timeshift_cam_imu = k.timeshift_cam_imu;
+    extras.camera_rate_from_stamps = true;
+  }
+  for (const std::string& w : k.warnings) seq->warnings.push_back(w);
+  return extras;
+}
+
+// --calibration: an ASL folder (cam0/imu0/rotor0 sensor.yaml, or its mav0 parent), or Kalibr
+// files separated by commas.
+CalibrationExtras readCalibration(const std::string& spec, bool has_images, Sequence* seq) {
+  if (spec.empty()) {
+    if (has_images)
+      throw InputError("--calibration", 0, "the bag holds images but bags carry no calibration: pass "
+                                           "--calibration <folder with cam0/sensor.yaml and imu0/sensor.yaml> "
+                                           "or Kalibr's <camchain-imucam.yaml>,<imu.yaml>");
+    return {};
+  }
+  if (fs::is_directory(spec)) {
+    readAslCalibration(spec, has_images, seq);
+    return {};
+  }
+  return readKalibrCalibration(spec, has_images, seq);
+}
+
+// Kalibr's camera clock correction (t_imu = t_cam + shift) and, for a camchain, the camera rate
+// from the stamps.
+void applyCalibrationExtras(const CalibrationExtras& extras, const std::string& path, Sequence* seq) {
+  if (extras.timeshift_cam_imu != 0.0) {
+    const Timestamp shift = fromSeconds(extras.timeshift_cam_imu);
+    for (ImageRef& image : seq->images) image.t += shift;
+    seq->warnings.push_back("image stamps moved by Kalibr's timeshift_cam_imu (" +
+                            std::to_string(extras.timeshift_cam_imu) + " s) to the IMU clock");
+  }
+  if (extras.camera_rate_from_stamps && seq->camera) {
+    if (seq->images.size() < 2)
+      throw InputError(path, 0, "a Kalibr camchain carries no camera rate and the bag has fewer than 2 images");
+    seq->camera->rate_hz = static_cast<double>(seq->images.size() - 1) /
+                           secondsBetween(seq->images.front().t, seq->images.back().t);
+  }
 }
 
 }  // namespace
@@ -198,7 +264,7 @@ Sequence readRosBag(const std::string& path, const ReadOptions& options) {
   const fs::path canonical = fs::weakly_canonical(fs::absolute(path));
   seq.source = canonical.string();
   seq.name = canonical.stem().string();
-  readCalibration(options.calibration, !cams.empty(), &seq);
+  const CalibrationExtras extras = readCalibration(options.calibration, !cams.empty(), &seq);
 
   emit(&imu, path, map.imu, &seq, [&](const ImuSample& s, std::size_t i) {
     if (!seq.imu.empty()) {
@@ -216,7 +282,7 @@ Sequence readRosBag(const std::string& path, const ReadOptions& options) {
       throw InputError(path, 0, map.camera + " message " + std::to_string(i + 1) + ": image " +
                                     std::to_string(l.header.width) + "x" + std::to_string(l.header.height) +
                                     " does not match the calibration " + std::to_string(c.width) + "x" +
-                                    std::to_string(c.height) + " (cam0/sensor.yaml)");
+                                    std::to_string(c.height) + " (" + c.file + ")");
     seq.images.push_back(ImageRef{l.t, seq.source, l.span, {}, 0});
   });
   emit(&rotor, path, map.rotor_speeds, &seq, [&](const RotorSample& s, std::size_t) { seq.rotor.push_back(s); });
@@ -224,6 +290,7 @@ Sequence readRosBag(const std::string& path, const ReadOptions& options) {
   emit(&groundtruth, path, map.groundtruth, &seq,
        [&](const GroundTruthState& s, std::size_t) { seq.groundtruth.push_back(s); });
 
+  applyCalibrationExtras(extras, path, &seq);
   applyRotorOptions(options, path, &seq);
   return seq;
 }

@@ -67,7 +67,10 @@ bool Hdf5File::has(const std::string& dataset) const {
 
 std::vector<std::string> Hdf5File::datasets() const {
   std::vector<std::string> names;
-  H5Literate(static_cast<hid_t>(id_), H5_INDEX_NAME, H5_ITER_INC, nullptr, collectName, &names);
+  // A damaged link table ends the listing; the reader then names what it found (libhdf5's own
+  // error stack would only repeat that on stderr).
+  H5E_BEGIN_TRY { H5Literate(static_cast<hid_t>(id_), H5_INDEX_NAME, H5_ITER_INC, nullptr, collectName, &names); }
+  H5E_END_TRY;
   return names;
 }
 

@@ -1,111 +1,13 @@
 #include "sensor_yaml.h"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
-
-#include <yaml-cpp/yaml.h>
 
 #include "hdvio/core/error.h"
-#include "hdvio/core/yaml_keys.h"
 #include "hdvio/io/csv.h"
+#include "yaml_fields.h"
 
 namespace hdvio::io {
 namespace {
-
-// A parsed sensor.yaml with error messages that carry the file and line of the offending key.
-class SensorYaml {
- public:
-  explicit SensorYaml(const std::string& path) : path_(path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, 0, "cannot open file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    std::string text = ss.str();
-    // OpenCV's "%YAML:1.0" directive is not YAML 1.2; blank it but keep the line numbering.
-    if (text.rfind("%YAML", 0) == 0) {
-      const std::size_t eol = text.find('\n');
-      text.replace(0, eol == std::string::npos ? text.size() : eol, "");
-    }
-    try {
-      root_ = YAML::Load(text);
-    } catch (const YAML::Exception& e) {
-      throw InputError(path, e.mark.line + 1, "YAML syntax error: " + e.msg);
-    }
-    if (!root_.IsMap()) throw InputError(path, 0, "expected a YAML map of sensor parameters");
-    rejectDuplicateYamlKeys(root_, path);
-  }
-
-  bool has(const std::string& key) const { return static_cast<bool>(root_[key]); }
-
-  YAML::Node node(const std::string& key) const {
-    YAML::Node n = root_[key];
-    if (!n) throw InputError(path_, 0, "missing key '" + key + "'");
-    return n;
-  }
-
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& problem) const {
-    throw InputError(path_, n.Mark().line + 1, "key '" + key + "': " + problem);
-  }
-
-  double number(const YAML::Node& n, const std::string& key) const {
-    double v = 0.0;
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(n, key, "expected a number");
-    }
-    if (!std::isfinite(v)) fail(n, key, "non-finite value");
-    return v;
-  }
-  double number(const std::string& key) const { return number(node(key), key); }
-
-  std::vector<double> numbers(const std::string& key, int expected_size) const {
-    const YAML::Node n = node(key);
-    if (!n.IsSequence()) fail(n, key, "expected a list of numbers");
-    if (expected_size >= 0 && static_cast<int>(n.size()) != expected_size) {
-      fail(n, key, "expected " + std::to_string(expected_size) + " values, found " +
-                       std::to_string(n.size()));
-    }
-    std::vector<double> out;
-    for (const auto& item : n) out.push_back(number(item, key));
-    return out;
-  }
-
-  std::string text(const std::string& key) const {
-    const YAML::Node n = node(key);
-    if (!n.IsScalar()) fail(n, key, "expected a string");
-    return n.as<std::string>();
-  }
-
-  // EuRoC's {rows: 4, cols: 4, data: [16 values]} rigid transform.
-  Pose transform(const std::string& key) const {
-    const YAML::Node n = node(key);
-    if (!n.IsMap() || !n["rows"] || !n["cols"] || !n["data"])
-      fail(n, key, "expected a map with rows, cols and data");
-    if (number(n["rows"], key + ".rows") != 4 || number(n["cols"], key + ".cols") != 4)
-      fail(n, key, "expected a 4x4 matrix");
-    const YAML::Node d = n["data"];
-    if (!d.IsSequence() || d.size() != 16) fail(d, key + ".data", "expected 16 values");
-    Mat4 T;
-    for (int i = 0; i < 16; ++i) T(i / 4, i % 4) = number(d[i], key + ".data");
-    if ((T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)
-      fail(d, key, "last row must be [0, 0, 0, 1]");
-    const Mat3 R = T.topLeftCorner<3, 3>();
-    const double orthonormality = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
-    if (orthonormality > 1e-6 || R.determinant() < 0.0) {
-      fail(d, key, "rotation part is not orthonormal (max |R^T R - I| = " +
-                       std::to_string(orthonormality) + ", det = " + std::to_string(R.determinant()) + ")");
-    }
-    return Pose(normalizeRotation(R), Vec3(T.topRightCorner<3, 1>()));
-  }
-
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-  YAML::Node root_;
-};
 
 std::string matrixYaml(const Pose& T) {
   const Mat4 M = T.matrix();
@@ -135,7 +37,7 @@ const char* distortionName(DistortionModel model) {
 }
 
 ImuCalibration readImuSensorYaml(const std::string& path) {
-  const SensorYaml y(path);
+  const YamlFields y(path);
   ImuCalibration c;
   c.T_BS = y.transform("T_BS");
   c.rate_hz = y.number("rate_hz");
@@ -152,7 +54,7 @@ ImuCalibration readImuSensorYaml(const std::string& path) {
 }
 
 CameraCalibration readCameraSensorYaml(const std::string& path) {
-  const SensorYaml y(path);
+  const YamlFields y(path);
   CameraCalibration c;
   c.file = path;
   c.T_BS = y.transform("T_BS");
@@ -198,7 +100,7 @@ CameraCalibration readCameraSensorYaml(const std::string& path) {
 }
 
 RotorCalibration readRotorSensorYaml(const std::string& path) {
-  const SensorYaml y(path);
+  const YamlFields y(path);
   RotorCalibration c;
   c.mass = y.number("mass");
   c.thrust_coefficient = y.number("thrust_coefficient");

@@ -15,8 +15,9 @@ struct ReadOptions {
   // thrust axis. Overrides a rotor0/sensor.yaml value for ASL folders.
   std::optional<double> thrust_coefficient;  // N s^2 rad^-2
   std::optional<double> mass;                // kg; default: the dataset's documented mass
-  // ROS bags only: the topic-map YAML (empty: EuRoC's topic names) and the folder holding
-  // cam0/, imu0/ (and rotor0/) sensor.yaml, e.g. an ASL sequence's mav0 folder.
+  // ROS bags only: the topic-map YAML (empty: EuRoC's topic names) and the calibration: the
+  // folder holding cam0/, imu0/ (and rotor0/) sensor.yaml, e.g. an ASL sequence's mav0 folder, or
+  // Kalibr files separated by commas (camchain-imucam.yaml,imu.yaml[,rotor0 sensor.yaml]).
   std::string bag_topics;
   std::string calibration;
 };

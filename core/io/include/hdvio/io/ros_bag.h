@@ -1,6 +1,6 @@
 #pragma once
 // ROS 1 bags (format 2.0) read without ROS: a topic map names which topic feeds which stream,
-// a calibration folder supplies what bags do not carry (cam0/imu0/rotor0 sensor.yaml).
+// a calibration folder (cam0/imu0/rotor0 sensor.yaml) or Kalibr files supply what bags do not carry.
 // Sample times are the messages' header stamps. See docs/datasets.md, "ROS bags".
 #include <set>
 #include <string>
@@ -31,7 +31,7 @@ BagTopicMap readBagTopicMap(const std::string& yaml_path);
 bool isRosBag(const std::string& path);
 
 // Reads the bag with options.bag_topics (a topic-map YAML, or the defaults) and the
-// calibration folder options.calibration (required when the bag holds images). Images stay in
+// calibration options.calibration (required when the bag holds images). Images stay in
 // the bag: ImageRef::span points at their message and loadImage decodes it on demand.
 Sequence readRosBag(const std::string& path, const ReadOptions& options = {});
 
