@@ -41,6 +41,12 @@ void readImoFilterSection(const ConfigReader& f, const std::string& config_path,
   f.readOptional("use_source_covariance", &run.use_source_covariance);
   f.readOptional("release_propagation", &o.release_propagation);
   f.readOptional("initial_window_biases", &run.initial_window_biases);
+  std::string rotation_error = "right";
+  f.readChoice("rotation_error", &rotation_error, {"right", "left"});
+  o.rotation_error = rotation_error == "left" ? imo::RotationError::kLeft : imo::RotationError::kRight;
+  double g = -o.gravity.z();
+  f.readInRange("gravity", &g, 9.7, 9.9);
+  o.gravity = Vec3(0.0, 0.0, -g);
   f.finish();
 }
 
