@@ -169,6 +169,9 @@ TEST(ImoPipeline, BadConfigValuesAreInputErrors) {
   EXPECT_THROW(make("model_ekf", "method: model_ekf\nmodel: {linear_drag: [0.3, -0.1, 0.2]}\n"), InputError);
   EXPECT_THROW(make("model_ekf", "method: model_ekf\nmodel: {thrust_scale: 0}\n"), InputError);
   EXPECT_THROW(make("model_ekf", "method: model_ekf\nmodel: {linear_drag: [0.3, 0.2]}\n"), InputError);
+  EXPECT_THROW(make("model_ekf", "method: model_ekf\nfilter: {rotation_error: world}\n"), InputError);
+  EXPECT_THROW(make("model_ekf", "method: model_ekf\nfilter: {gravity: 98.1}\n"), InputError);
+  EXPECT_NO_THROW(make("model_ekf", "method: model_ekf\nfilter: {rotation_error: left, gravity: 9.8082}\n"));
 }
 
 // A network without covariance (the IMO release's, output_sigma none) needs the filter's sigma.
