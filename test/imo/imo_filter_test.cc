@@ -121,6 +121,24 @@ ImoFilter filterWithClones(int clones, ImoFilterOptions options = {}) {
   return filter;
 }
 
+// Central differences of h(filter) through inject (3 x (15 + 9 N)): the Jacobian in the
+// filter's own error-state convention.
+template <class F>
+Eigen::MatrixXd injectedJacobian(const ImoFilter& filter, F h) {
+  const int n = static_cast<int>(filter.covariance().rows());
+  const double eps = 1e-6;
+  Eigen::MatrixXd J(3, n);
+  for (int i = 0; i < n; ++i) {
+    ImoFilter plus = filter, minus = filter;
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+    d(i) = eps;
+    plus.inject(d);
+    minus.inject(-d);
+    J.col(i) = (h(plus) - h(minus)) / (2 * eps);
+  }
+  return J;
+}
+
 TEST(ImoUpdate, MeasurementJacobianMatchesFiniteDifferences) {
   ImoFilter filter = filterWithClones(6);
   ASSERT_EQ(filter.clones().size(), 6u);
@@ -133,16 +151,9 @@ TEST(ImoUpdate, MeasurementJacobianMatchesFiniteDifferences) {
     m.clone_j = 5;
     m.velocity_matrix = c;
     const Eigen::MatrixXd H = filter.measurementJacobian(m);
-    const double eps = 1e-6;
-    for (int i = 0; i < n; ++i) {
-      ImoFilter plus = filter, minus = filter;
-      Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
-      d(i) = eps;
-      plus.inject(d);
-      minus.inject(-d);
-      const Vec3 col = (plus.predictMeasurement(m) - minus.predictMeasurement(m)) / (2 * eps);
-      EXPECT_LT((col - H.col(i)).norm(), 1e-7) << "c " << c(0, 0) << " column " << i;
-    }
+    const Eigen::MatrixXd fd = injectedJacobian(filter, [&](const ImoFilter& f) { return f.predictMeasurement(m); });
+    for (int i = 0; i < n; ++i)
+      EXPECT_LT((fd.col(i) - H.col(i)).norm(), 1e-7) << "c " << c(0, 0) << " column " << i;
   }
 }
 
@@ -163,30 +174,16 @@ TEST(ImoUpdate, AttitudeJacobianIsConvertedToTheFiltersConvention) {
     const Eigen::MatrixXd H = filter.measurementJacobian(m);
     auto h = [&](const ImoFilter& f) { return Vec3(f.predictMeasurement(m) - f.clones()[1].R * c); };
     const int n = static_cast<int>(H.cols());
-    const double eps = 1e-6;
-    for (int i = 0; i < n; ++i) {
-      ImoFilter plus = filter, minus = filter;
-      Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
-      d(i) = eps;
-      plus.inject(d);
-      minus.inject(-d);
-      const Vec3 col = (h(plus) - h(minus)) / (2 * eps);
-      EXPECT_LT((col - H.col(i)).norm(), 1e-7) << "column " << i;
-    }
+    const Eigen::MatrixXd fd = injectedJacobian(filter, h);
+    for (int i = 0; i < n; ++i) EXPECT_LT((fd.col(i) - H.col(i)).norm(), 1e-7) << "column " << i;
     // The same for a generic Jacobian (gate corners): jacobianInFilterConvention.
     Eigen::MatrixXd H_right = Eigen::MatrixXd::Zero(3, n);
     H_right.middleCols<3>(15 + 9 * 1) = -filter.clones()[1].R * hat(c);
     H_right.middleCols<3>(0) = filter.state().R * hat(c);  // of +R c for the evolving state
     const Eigen::MatrixXd Hf = filter.jacobianInFilterConvention(H_right);
     auto g = [&](const ImoFilter& f) { return Vec3(f.state().R * c - f.clones()[1].R * c); };
-    for (int i = 0; i < n; ++i) {
-      ImoFilter plus = filter, minus = filter;
-      Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
-      d(i) = eps;
-      plus.inject(d);
-      minus.inject(-d);
-      EXPECT_LT(((g(plus) - g(minus)) / (2 * eps) + Hf.col(i)).norm(), 1e-7) << "generic column " << i;
-    }
+    const Eigen::MatrixXd fd_g = injectedJacobian(filter, g);
+    for (int i = 0; i < n; ++i) EXPECT_LT((fd_g.col(i) + Hf.col(i)).norm(), 1e-7) << "generic column " << i;
   }
 }
 
