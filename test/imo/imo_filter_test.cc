@@ -27,16 +27,20 @@ ImoNominalState exactState(double t) {
   return x;
 }
 
-// Error of b relative to a in the filter's error-state convention.
-Eigen::Matrix<double, 15, 1> stateError(const ImoNominalState& a, const ImoNominalState& b) {
+// Error of b relative to a in the filter's error-state convention (right: b.R = a.R Exp(d),
+// left: b.R = Exp(d) a.R).
+Eigen::Matrix<double, 15, 1> stateError(const ImoNominalState& a, const ImoNominalState& b,
+                                        RotationError e = RotationError::kRight) {
   Eigen::Matrix<double, 15, 1> d;
-  d << so3Log(a.R.transpose() * b.R), b.v - a.v, b.p - a.p, b.bg - a.bg, b.ba - a.ba;
+  d << so3Log(e == RotationError::kLeft ? Mat3(b.R * a.R.transpose()) : Mat3(a.R.transpose() * b.R)),
+      b.v - a.v, b.p - a.p, b.bg - a.bg, b.ba - a.ba;
   return d;
 }
 
-ImoNominalState perturbed(const ImoNominalState& x, const Eigen::Matrix<double, 15, 1>& d) {
+ImoNominalState perturbed(const ImoNominalState& x, const Eigen::Matrix<double, 15, 1>& d,
+                          RotationError e = RotationError::kRight) {
   ImoNominalState y = x;
-  y.R = x.R * so3Exp(d.segment<3>(0));
+  y.R = e == RotationError::kLeft ? Mat3(so3Exp(d.segment<3>(0)) * x.R) : Mat3(x.R * so3Exp(d.segment<3>(0)));
   y.v += d.segment<3>(3);
   y.p += d.segment<3>(6);
   y.bg += d.segment<3>(9);
@@ -65,24 +69,27 @@ TEST(ImoPropagation, FollowsNoiseFreeAnalyticFlight) {
   }
 }
 
+// Both attitude error conventions (rotation_error), both propagation steps.
 TEST(ImoPropagation, JacobiansMatchFiniteDifferences) {
+  for (const RotationError e : {RotationError::kRight, RotationError::kLeft})
   for (bool start : {false, true}) {  // mid-step attitude, release (start-attitude) step
     SCOPED_TRACE(start ? "start attitude" : "mid-step attitude");
+    SCOPED_TRACE(e == RotationError::kLeft ? "left error" : "right error");
     ImoNominalState x = exactState(1.3);
     x.bg = Vec3(0.01, -0.02, 0.015);
     x.ba = Vec3(0.1, 0.05, -0.2);
     const ImuSample m = imuAt(1.3, 0);
     const double dt = 0.01;
     const Vec3 g = gravityWorld();
-    const PropagationStep ref = propagateNominal(x, m.gyro, m.accel, dt, g, start);
+    const PropagationStep ref = propagateNominal(x, m.gyro, m.accel, dt, g, start, e);
     const double eps = 1e-6;
     for (int i = 0; i < 15; ++i) {
       Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::Zero();
       d(i) = eps;
-      const auto plus = propagateNominal(perturbed(x, d), m.gyro, m.accel, dt, g, start);
-      const auto minus = propagateNominal(perturbed(x, -d), m.gyro, m.accel, dt, g, start);
+      const auto plus = propagateNominal(perturbed(x, d, e), m.gyro, m.accel, dt, g, start, e);
+      const auto minus = propagateNominal(perturbed(x, -d, e), m.gyro, m.accel, dt, g, start, e);
       const Eigen::Matrix<double, 15, 1> col =
-          (stateError(ref.state, plus.state) - stateError(ref.state, minus.state)) / (2 * eps);
+          (stateError(ref.state, plus.state, e) - stateError(ref.state, minus.state, e)) / (2 * eps);
       EXPECT_LT((col - ref.A.col(i)).norm(), 1e-7) << "column " << i << "\n" << col.transpose()
                                                     << "\n" << ref.A.col(i).transpose();
     }
@@ -90,10 +97,10 @@ TEST(ImoPropagation, JacobiansMatchFiniteDifferences) {
     for (int i = 0; i < 6; ++i) {
       Vec3 dg = Vec3::Zero(), da = Vec3::Zero();
       (i < 3 ? dg : da)(i % 3) = eps;
-      const auto plus = propagateNominal(x, m.gyro + dg, m.accel + da, dt, g, start);
-      const auto minus = propagateNominal(x, m.gyro - dg, m.accel - da, dt, g, start);
+      const auto plus = propagateNominal(x, m.gyro + dg, m.accel + da, dt, g, start, e);
+      const auto minus = propagateNominal(x, m.gyro - dg, m.accel - da, dt, g, start, e);
       const Eigen::Matrix<double, 15, 1> col =
-          (stateError(ref.state, plus.state) - stateError(ref.state, minus.state)) / (2 * eps);
+          (stateError(ref.state, plus.state, e) - stateError(ref.state, minus.state, e)) / (2 * eps);
       // B is d(error)/d(noise) with error = truth (-) estimate and measurement = truth + noise,
       // so perturbing the measurement moves the estimate by -B.
       EXPECT_LT((col + ref.B.col(i)).norm(), 1e-7) << "noise column " << i;
@@ -114,6 +121,24 @@ ImoFilter filterWithClones(int clones, ImoFilterOptions options = {}) {
   return filter;
 }
 
+// Central differences of h(filter) through inject (3 x (15 + 9 N)): the Jacobian in the
+// filter's own error-state convention.
+template <class F>
+Eigen::MatrixXd injectedJacobian(const ImoFilter& filter, F h) {
+  const int n = static_cast<int>(filter.covariance().rows());
+  const double eps = 1e-6;
+  Eigen::MatrixXd J(3, n);
+  for (int i = 0; i < n; ++i) {
+    ImoFilter plus = filter, minus = filter;
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+    d(i) = eps;
+    plus.inject(d);
+    minus.inject(-d);
+    J.col(i) = (h(plus) - h(minus)) / (2 * eps);
+  }
+  return J;
+}
+
 TEST(ImoUpdate, MeasurementJacobianMatchesFiniteDifferences) {
   ImoFilter filter = filterWithClones(6);
   ASSERT_EQ(filter.clones().size(), 6u);
@@ -126,16 +151,39 @@ TEST(ImoUpdate, MeasurementJacobianMatchesFiniteDifferences) {
     m.clone_j = 5;
     m.velocity_matrix = c;
     const Eigen::MatrixXd H = filter.measurementJacobian(m);
-    const double eps = 1e-6;
-    for (int i = 0; i < n; ++i) {
-      ImoFilter plus = filter, minus = filter;
-      Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
-      d(i) = eps;
-      plus.inject(d);
-      minus.inject(-d);
-      const Vec3 col = (plus.predictMeasurement(m) - minus.predictMeasurement(m)) / (2 * eps);
-      EXPECT_LT((col - H.col(i)).norm(), 1e-7) << "c " << c(0, 0) << " column " << i;
-    }
+    const Eigen::MatrixXd fd = injectedJacobian(filter, [&](const ImoFilter& f) { return f.predictMeasurement(m); });
+    for (int i = 0; i < n; ++i)
+      EXPECT_LT((fd.col(i) - H.col(i)).norm(), 1e-7) << "c " << c(0, 0) << " column " << i;
+  }
+}
+
+// An attitude-dependent prediction g(R_i) = R_i c (right Jacobian -R_i [c]x, what a model
+// source hands over as attitude_jacobian): the filter's H, in either convention, against
+// finite differences of p_j - p_i - g(R_i) through inject (which perturbs in that convention).
+TEST(ImoUpdate, AttitudeJacobianIsConvertedToTheFiltersConvention) {
+  const Vec3 c(0.3, -0.2, 0.1);
+  for (const RotationError e : {RotationError::kRight, RotationError::kLeft}) {
+    SCOPED_TRACE(e == RotationError::kLeft ? "left error" : "right error");
+    ImoFilterOptions o;
+    o.rotation_error = e;
+    ImoFilter filter = filterWithClones(4, o);
+    RelativePositionMeasurement m;
+    m.clone_i = 1;
+    m.clone_j = 3;
+    m.attitude_jacobian = -filter.clones()[1].R * hat(c);
+    const Eigen::MatrixXd H = filter.measurementJacobian(m);
+    auto h = [&](const ImoFilter& f) { return Vec3(f.predictMeasurement(m) - f.clones()[1].R * c); };
+    const int n = static_cast<int>(H.cols());
+    const Eigen::MatrixXd fd = injectedJacobian(filter, h);
+    for (int i = 0; i < n; ++i) EXPECT_LT((fd.col(i) - H.col(i)).norm(), 1e-7) << "column " << i;
+    // The same for a generic Jacobian (gate corners): jacobianInFilterConvention.
+    Eigen::MatrixXd H_right = Eigen::MatrixXd::Zero(3, n);
+    H_right.middleCols<3>(15 + 9 * 1) = -filter.clones()[1].R * hat(c);
+    H_right.middleCols<3>(0) = filter.state().R * hat(c);  // of +R c for the evolving state
+    const Eigen::MatrixXd Hf = filter.jacobianInFilterConvention(H_right);
+    auto g = [&](const ImoFilter& f) { return Vec3(f.state().R * c - f.clones()[1].R * c); };
+    const Eigen::MatrixXd fd_g = injectedJacobian(filter, g);
+    for (int i = 0; i < n; ++i) EXPECT_LT((fd_g.col(i) + Hf.col(i)).norm(), 1e-7) << "generic column " << i;
   }
 }
 

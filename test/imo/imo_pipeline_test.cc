@@ -13,6 +13,7 @@
 #include "hdvio/backend/vio_runner.h"
 #include "hdvio/core/error.h"
 #include "hdvio/io/sequence_reader.h"
+#include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
 
 namespace hdvio::run {
@@ -169,6 +170,47 @@ TEST(ImoPipeline, BadConfigValuesAreInputErrors) {
   EXPECT_THROW(make("model_ekf", "method: model_ekf\nmodel: {linear_drag: [0.3, -0.1, 0.2]}\n"), InputError);
   EXPECT_THROW(make("model_ekf", "method: model_ekf\nmodel: {thrust_scale: 0}\n"), InputError);
   EXPECT_THROW(make("model_ekf", "method: model_ekf\nmodel: {linear_drag: [0.3, 0.2]}\n"), InputError);
+  EXPECT_THROW(make("model_ekf", "method: model_ekf\nfilter: {rotation_error: world}\n"), InputError);
+  EXPECT_THROW(make("model_ekf", "method: model_ekf\nfilter: {gravity: 98.1}\n"), InputError);
+  EXPECT_THROW(make("model_ekf", "method: model_ekf\nfilter: {release_first_window_sample: maybe}\n"), InputError);
+  EXPECT_NO_THROW(make("model_ekf", "method: model_ekf\nfilter: {rotation_error: left, gravity: 9.8082}\n"));
+}
+
+// release_first_window_sample: the network windows see the start sample with the next
+// sample's values (exactly as a stream where it was replaced), and only windows containing it.
+TEST(ImoPipeline, ReleaseFirstWindowSampleRepeatsTheSecondSampleInTheFirstWindowOnly) {
+  const auto model = std::make_shared<const learned::DisplacementModel>(learned::DisplacementModel::load(
+      std::string(HDVIO_SOURCE_DIR) + "/test/learned/data/imo_release_tiny.tcn"));
+  Sequence seq, replaced;
+  std::vector<ThrustSample> thrust, thrust_replaced;
+  const Timestamp t0 = fromSeconds(2.0), dt = fromSeconds(1.0 / model->sampleRateHz());
+  for (int k = 0; k < 3 * model->windowSamples(); ++k) {
+    const double x = 0.37 * k;
+    seq.imu.push_back({t0 + k * dt, Vec3(std::sin(x), std::cos(x), 0.2 * x), Vec3(0.1, -0.3, 9.8)});
+    thrust.push_back({t0 + k * dt, Vec3(0.5 * std::cos(x), 0.2, 9.5 + std::sin(x))});
+  }
+  replaced.imu = seq.imu;
+  thrust_replaced = thrust;
+  replaced.imu[0] = seq.imu[1];
+  replaced.imu[0].t = t0;
+  thrust_replaced[0] = thrust[1];
+  thrust_replaced[0].t = t0;
+  const auto repeating = makeNetworkDisplacementSource(model, seq, thrust, t0);
+  const auto plain = makeNetworkDisplacementSource(model, seq, thrust);
+  const auto reference = makeNetworkDisplacementSource(model, replaced, thrust_replaced);
+  auto request = [&](Timestamp t_end) {
+    imo::DisplacementRequest r;
+    r.t_end = t_end;
+    r.t_begin = t_end - model->windowDuration();
+    r.world_from_body = [](Timestamp) { return Quat(Eigen::AngleAxisd(0.4, Vec3(0.3, -0.5, 0.8).normalized())); };
+    return r;
+  };
+  const imo::DisplacementRequest first = request(t0 + model->windowDuration());
+  const imo::DisplacementRequest second = request(t0 + model->windowDuration() + dt);
+  ASSERT_TRUE(repeating(first) && plain(first) && reference(first));
+  EXPECT_EQ(repeating(first)->z, reference(first)->z);
+  EXPECT_GT((repeating(first)->z - plain(first)->z).norm(), 1e-6);
+  EXPECT_EQ(repeating(second)->z, plain(second)->z);
 }
 
 // A network without covariance (the IMO release's, output_sigma none) needs the filter's sigma.

@@ -47,6 +47,7 @@ class GateIoPipeline : public MethodPipeline {
     readImoFilterSection(cfg.optionalSection("filter"), file.path, &filter);
     init_gyro_bias_ = filter.init_gyro_bias;
     init_accel_bias_ = filter.init_accel_bias;
+    release_first_window_sample_ = filter.release_first_window_sample;
     if (options_.fuse_displacements) {
       model_ = loadDisplacementNetwork(cfg.section("network"), file.dir);
       options_.imo.window_s = model_->windowSeconds();
@@ -84,7 +85,7 @@ class GateIoPipeline : public MethodPipeline {
     Progress progress("gate_io", imu.front().t, imu.back().t);
     const auto on_progress = [&progress](Timestamp t) { progress.update(t); };
     const imo::GateIoOutput out =
-        imo::runGateIo(imu, init, options_, camera, seq.camera->T_BS, frames, makeSource(seq, thrust), on_progress);
+        imo::runGateIo(imu, init, options_, camera, seq.camera->T_BS, frames, makeSource(seq, thrust, imu.front().t), on_progress);
     progress.finish();
 
     RunResults results;
@@ -109,9 +110,11 @@ class GateIoPipeline : public MethodPipeline {
 
  private:
   // The displacement network as in the imo method (empty source without a network).
-  imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust) const {
+  imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust,
+                                     Timestamp start) const {
     if (!model_) return {};
-    return makeNetworkDisplacementSource(model_, seq, thrust);
+    return makeNetworkDisplacementSource(model_, seq, thrust,
+                                         release_first_window_sample_ ? std::optional<Timestamp>(start) : std::nullopt);
   }
 
   ExperimentFile file_;
@@ -119,6 +122,7 @@ class GateIoPipeline : public MethodPipeline {
   std::shared_ptr<const learned::DisplacementModel> model_;
   Vec3 init_gyro_bias_ = Vec3::Zero();
   Vec3 init_accel_bias_ = Vec3::Zero();
+  bool release_first_window_sample_ = false;
   bool use_detections_ = true;
   double start_offset_s_ = 0.0;
   double duration_s_ = 0.0;

@@ -41,6 +41,13 @@ void readImoFilterSection(const ConfigReader& f, const std::string& config_path,
   f.readOptional("use_source_covariance", &run.use_source_covariance);
   f.readOptional("release_propagation", &o.release_propagation);
   f.readOptional("initial_window_biases", &run.initial_window_biases);
+  std::string rotation_error = "right";
+  f.readChoice("rotation_error", &rotation_error, {"right", "left"});
+  o.rotation_error = rotation_error == "left" ? imo::RotationError::kLeft : imo::RotationError::kRight;
+  double g = -o.gravity.z();
+  f.readInRange("gravity", &g, 9.7, 9.9);
+  o.gravity = Vec3(0.0, 0.0, -g);
+  f.readOptional("release_first_window_sample", &section->release_first_window_sample);
   f.finish();
 }
 
@@ -57,19 +64,39 @@ std::shared_ptr<const learned::DisplacementModel> loadDisplacementNetwork(
   return std::make_shared<const learned::DisplacementModel>(learned::DisplacementModel::load(path));
 }
 
+namespace {
+// The sample at time t (if any, and not the last) takes the next sample's values.
+template <class Sample>
+void repeatNextSample(std::vector<Sample>* stream, Timestamp t) {
+  auto it = std::lower_bound(stream->begin(), stream->end(), t,
+                             [](const Sample& s, Timestamp tt) { return s.t < tt; });
+  if (it == stream->end() || it->t != t || it + 1 == stream->end()) return;
+  *it = *(it + 1);
+  it->t = t;
+}
+}  // namespace
+
 imo::DisplacementSource makeNetworkDisplacementSource(
     std::shared_ptr<const learned::DisplacementModel> model, const Sequence& seq,
-    std::vector<ThrustSample> thrust) {
+    std::vector<ThrustSample> thrust, std::optional<Timestamp> repeat_next_at) {
   const bool use_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
   const Timestamp w = model->windowDuration();
   auto covered = [w](const auto& stream, Timestamp t_end) {
     return !stream.empty() && stream.front().t <= t_end - w && stream.back().t >= t_end;
   };
-  return [model, &seq, thrust = std::move(thrust), use_thrust, covered](
+  std::shared_ptr<const std::vector<ImuSample>> imu_copy;
+  if (repeat_next_at) {
+    auto imu = std::make_shared<std::vector<ImuSample>>(seq.imu);
+    repeatNextSample(imu.get(), *repeat_next_at);
+    repeatNextSample(&thrust, *repeat_next_at);
+    imu_copy = std::move(imu);
+  }
+  return [model, &seq, imu_copy, thrust = std::move(thrust), use_thrust, covered](
              const imo::DisplacementRequest& r) -> std::optional<imo::DisplacementEstimate> {
-    if (!covered(seq.imu, r.t_end) || (use_thrust && !covered(thrust, r.t_end))) return std::nullopt;
+    const std::vector<ImuSample>& imu = imu_copy ? *imu_copy : seq.imu;
+    if (!covered(imu, r.t_end) || (use_thrust && !covered(thrust, r.t_end))) return std::nullopt;
     const learned::MatrixXf window = learned::makeDisplacementWindow(
-        *model, seq.imu, thrust, r.t_end, r.world_from_body, r.gyro_bias, r.accel_bias);
+        *model, imu, thrust, r.t_end, r.world_from_body, r.gyro_bias, r.accel_bias);
     const learned::DisplacementPrediction p = model->predict(window);
     imo::DisplacementEstimate e;
     e.z = p.displacement;

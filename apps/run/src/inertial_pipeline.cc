@@ -29,6 +29,7 @@ class InertialPipeline : public MethodPipeline {
     readImoFilterSection(cfg.optionalSection("filter"), file.path, &filter);
     init_gyro_bias_ = filter.init_gyro_bias;
     init_accel_bias_ = filter.init_accel_bias;
+    release_first_window_sample_ = filter.release_first_window_sample;
     if (method_ == "model_ekf") {
       const ConfigReader m = cfg.optionalSection("model");
       m.readInRange("integration_step_s", &model_step_s_, 1e-4, 0.1);
@@ -95,7 +96,7 @@ class InertialPipeline : public MethodPipeline {
       throw InputError(seq.source, 0, "method " + method_ + " needs ground-truth velocity to start");
     init.bias << init_gyro_bias_, init_accel_bias_;
 
-    const imo::DisplacementSource source = makeSource(seq, thrust);
+    const imo::DisplacementSource source = makeSource(seq, thrust, imu.front().t);
     Progress progress(method_, imu.front().t, imu.back().t);
     const auto on_progress = [&progress](Timestamp t) { progress.update(t); };
     const imo::ImoRunOutput out = method_ == "net_only"
@@ -123,11 +124,13 @@ class InertialPipeline : public MethodPipeline {
     return thrust;
   }
 
-  imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust) const {
+  imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust,
+                                     Timestamp start) const {
     if (!model_)
       return imo::makeDragModelSource(thrust, drag_model_, model_step_s_, options_.measurement_sigma,
                                       options_.filter.gravity, model_attitude_jacobian_);
-    return makeNetworkDisplacementSource(model_, seq, thrust);
+    return makeNetworkDisplacementSource(model_, seq, thrust,
+                                         release_first_window_sample_ ? std::optional<Timestamp>(start) : std::nullopt);
   }
 
   std::string method_;
@@ -141,6 +144,7 @@ class InertialPipeline : public MethodPipeline {
   Vec3 thrust_axis_ = Vec3::UnitZ();
   Vec3 init_gyro_bias_ = Vec3::Zero();
   Vec3 init_accel_bias_ = Vec3::Zero();
+  bool release_first_window_sample_ = false;
   double start_offset_s_ = 0.0;
   double duration_s_ = 0.0;
 };

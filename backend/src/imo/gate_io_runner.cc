@@ -90,6 +90,7 @@ GateIoOutput runGateIo(const std::vector<ImuSample>& imu, const NavState& init,
     const double t0 = threadCpuSeconds();
     const int dim = kStateDim + kCloneDim * static_cast<int>(filter.clones().size());
     GateFrameMeasurement m = gateFrameMeasurement(camera, T_BC, filter.state(), frame.corners, dim);
+    m.H = filter.jacobianInFilterConvention(m.H);
     if (corner_threshold > 0.0 && !m.used.empty()) m = dropOutlierCorners(m, filter.covariance(), pixel_var,
                                                                           corner_threshold, &out.corners_rejected);
     if (!m.used.empty()) {

@@ -19,8 +19,9 @@ Mat3 orthonormalized(const Mat3& R) { return Quat(R).normalized().toRotationMatr
 }  // namespace
 
 PropagationStep propagateNominal(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel,
-                                 double dt, const Vec3& gravity, bool start_attitude) {
-  const NominalStep s = propagateStep(x, gyro, accel, dt, gravity, start_attitude);
+                                 double dt, const Vec3& gravity, bool start_attitude,
+                                 RotationError rotation_error) {
+  const NominalStep s = propagateStep(x, gyro, accel, dt, gravity, start_attitude, rotation_error);
   return {s.state, s.transition.dense(), s.transition.noiseInput()};
 }
 
@@ -44,7 +45,8 @@ void ImoFilter::propagate(const Vec3& gyro, const Vec3& accel, Timestamp t_next)
   const double dt = secondsBetween(x_.t, t_next);
   if (dt < 0.0) throw std::logic_error("ImoFilter::propagate: time goes backwards");
   if (dt == 0.0) return;
-  const NominalStep s = propagateStep(x_, gyro, accel, dt, options_.gravity, options_.release_propagation);
+  const NominalStep s = propagateStep(x_, gyro, accel, dt, options_.gravity, options_.release_propagation,
+                                      options_.rotation_error);
   x_ = s.state;
   x_.t = t_next;
 
@@ -138,7 +140,7 @@ MatX ImoFilter::measurementJacobian(const RelativePositionMeasurement& m) const 
   H.block<3, 3>(0, cloneOffset(m.clone_i) + kPos) -= Mat3::Identity();
   H.block<3, 3>(0, cloneOffset(m.clone_i) + kVel) -=
       m.velocity_coefficient * Mat3::Identity() + m.velocity_matrix;
-  H.block<3, 3>(0, cloneOffset(m.clone_i) + kTheta) -= m.attitude_jacobian;
+  H.block<3, 3>(0, cloneOffset(m.clone_i) + kTheta) -= attitudeBlock(m.attitude_jacobian, clones_.at(m.clone_i).R);
   return H;
 }
 
@@ -150,7 +152,7 @@ UpdateOutcome ImoFilter::update(const RelativePositionMeasurement& m) {
   // H has at most four 3x3 blocks: P H^T is a combination of column blocks of P.
   const int oi = cloneOffset(m.clone_i), oj = cloneOffset(m.clone_j);
   const Mat3 C = m.velocity_coefficient * Mat3::Identity() + m.velocity_matrix;
-  const Mat3& J = m.attitude_jacobian;
+  const Mat3 J = attitudeBlock(m.attitude_jacobian, clones_[m.clone_i].R);
   const bool has_c = !C.isZero(0.0), has_j = !J.isZero(0.0);
   const int n = dim();
   const auto P = cov();
@@ -189,16 +191,26 @@ UpdateOutcome ImoFilter::update(const RelativePositionMeasurement& m) {
   return UpdateOutcome::kApplied;
 }
 
+Mat3 ImoFilter::attitudeBlock(const Mat3& J_right, const Mat3& R) const {
+  // R_hat Exp(d_right) = Exp(d_left) R_hat with d_right = R_hat^T d_left.
+  return options_.rotation_error == RotationError::kLeft ? Mat3(J_right * R.transpose()) : J_right;
+}
+
+Mat3 ImoFilter::perturbed(const Mat3& R, const Vec3& dtheta) const {
+  return orthonormalized(options_.rotation_error == RotationError::kLeft ? Mat3(so3Exp(dtheta) * R)
+                                                                        : Mat3(R * so3Exp(dtheta)));
+}
+
 void ImoFilter::inject(const VecX& dx) {
   if (dx.size() != dim()) throw std::logic_error("ImoFilter::inject: wrong size");
-  x_.R = orthonormalized(x_.R * so3Exp(dx.segment<3>(kTheta)));
+  x_.R = perturbed(x_.R, dx.segment<3>(kTheta));
   x_.v += dx.segment<3>(kVel);
   x_.p += dx.segment<3>(kPos);
   x_.bg += dx.segment<3>(kBg);
   x_.ba += dx.segment<3>(kBa);
   for (std::size_t k = 0; k < clones_.size(); ++k) {
     const int o = cloneOffset(static_cast<int>(k));
-    clones_[k].R = orthonormalized(clones_[k].R * so3Exp(dx.segment<3>(o + kTheta)));
+    clones_[k].R = perturbed(clones_[k].R, dx.segment<3>(o + kTheta));
     clones_[k].v += dx.segment<3>(o + kVel);
     clones_[k].p += dx.segment<3>(o + kPos);
   }

@@ -30,6 +30,17 @@ double chiSquareQuantile(int dof, double probability) {
 
 }  // namespace
 
+MatX ImoFilter::jacobianInFilterConvention(const MatX& H_right) const {
+  if (options_.rotation_error == RotationError::kRight) return H_right;
+  MatX H = H_right;
+  H.middleCols<3>(0) = H_right.middleCols<3>(0) * x_.R.transpose();
+  for (std::size_t k = 0; k < clones_.size(); ++k) {
+    const int o = kStateDim + kCloneDim * static_cast<int>(k);
+    H.middleCols<3>(o) = H_right.middleCols<3>(o) * clones_[k].R.transpose();
+  }
+  return H;
+}
+
 UpdateOutcome ImoFilter::updateGeneric(const VecX& r, const MatX& H, const MatX& R, double gate_probability) {
   const int m = static_cast<int>(r.size());
   if (m == 0 || H.rows() != m || H.cols() != dim() || R.rows() != m || R.cols() != m)

@@ -37,7 +37,7 @@ Eigen::Matrix<double, 15, 6> StepTransition::noiseInput() const {
 }
 
 NominalStep propagateStep(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel, double dt,
-                          const Vec3& gravity, bool start_attitude) {
+                          const Vec3& gravity, bool start_attitude, RotationError rotation_error) {
   const Vec3 w = gyro - x.bg;
   const Vec3 a = accel - x.ba;
   const Vec3 phi = w * dt;
@@ -55,16 +55,26 @@ NominalStep propagateStep(const ImoNominalState& x, const Vec3& gyro, const Vec3
   s.state.v = x.v + (acc_w + gravity) * dt;
   s.state.p = x.p + x.v * dt + 0.5 * (acc_w + gravity) * dt * dt;
 
-  // Error dynamics for R = R_hat Exp(dtheta) (right perturbation), the rest additive.
-  const Mat3 Rm_a = Rm * hat(a);
+  // Error dynamics, v, p and biases additive. The bias rows are the same in both conventions
+  // except the attitude's: a gyro-bias error rotates the step by Exp(-Jr(phi) dbg dt) on the
+  // right of dR, i.e. in the body frame at the step's end.
   StepTransition& A = s.transition;
   A.dt = dt;
-  A.theta_theta = dR.transpose();
-  A.theta_bg = -rightJacobian(phi) * dt;
-  A.vel_theta = -Rm_a * Ma.transpose() * dt;                            // d(acc_w)/d(dtheta) dt
   A.vel_bg = start_attitude ? Mat3::Zero()                              // d(acc_w)/d(dbg) dt
-                            : Mat3(Rm_a * rightJacobian(0.5 * phi) * (0.5 * dt * dt));
+                            : Mat3(Rm * hat(a) * rightJacobian(0.5 * phi) * (0.5 * dt * dt));
   A.vel_ba = -Rm * dt;
+  if (rotation_error == RotationError::kLeft) {
+    // R = Exp(dtheta) R_hat: a world-frame error is carried unchanged by R <- R dR, and
+    // Exp(dtheta) R_m a = acc_w + dtheta x acc_w.
+    A.theta_theta = Mat3::Identity();
+    A.theta_bg = -s.state.R * rightJacobian(phi) * dt;
+    A.vel_theta = -hat(acc_w) * dt;
+  } else {
+    // R = R_hat Exp(dtheta): the body-frame error is rotated into the next body frame.
+    A.theta_theta = dR.transpose();
+    A.theta_bg = -rightJacobian(phi) * dt;
+    A.vel_theta = -Rm * hat(a) * Ma.transpose() * dt;                  // d(acc_w)/d(dtheta) dt
+  }
   return s;
 }
 

@@ -3,6 +3,7 @@
 // the IMO filter's `filter:` section, the displacement network of a `network:` section, and the
 // network's displacement source over a sequence (docs/imo.md, docs/gate_io.md).
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,11 @@ struct ImoFilterSection {
   imo::ImoRunOptions* options = nullptr;  // filter noise, initial sigmas, rate, measurement sigma
   Vec3 init_gyro_bias = Vec3::Zero();
   Vec3 init_accel_bias = Vec3::Zero();
+  // `release_first_window_sample`: in the network windows, the run's first IMU (and thrust)
+  // sample takes the values of the second, as in the IMO release, whose input buffer starts
+  // without a previous sample to interpolate from (NetInputBuffer.add_data_interpolated with
+  // last_t_us < 0 stores the newer sample at the start time). Only the first window sees it.
+  bool release_first_window_sample = false;
 };
 
 // Reads `filter:` into *section (defaults = what it holds) and calls f.finish(). InputError
@@ -36,9 +42,11 @@ std::shared_ptr<const learned::DisplacementModel> loadDisplacementNetwork(
 // The network's displacement over each requested window, rotated with the filter's orientation
 // (learned::makeDisplacementWindow); no estimate where the IMU (or, for a thrust network, the
 // thrust) does not cover the window. The sequence must outlive the source; thrust is copied.
+// repeat_next_at (release_first_window_sample): the IMU and thrust samples at that time take
+// the next samples' values in the windows (on copies of the streams).
 imo::DisplacementSource makeNetworkDisplacementSource(
     std::shared_ptr<const learned::DisplacementModel> model, const Sequence& seq,
-    std::vector<ThrustSample> thrust);
+    std::vector<ThrustSample> thrust, std::optional<Timestamp> repeat_next_at = std::nullopt);
 
 // The IMU samples the inertial methods run on: from the first sample inside the ground truth
 // (+ start_offset_s), for duration_s (<= 0: to the end). InputError when no sample is inside.

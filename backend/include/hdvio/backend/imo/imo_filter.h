@@ -3,9 +3,11 @@
 // Liu et al., TLIO, RA-L 2020). Nominal state R, v, p, bg, ba (world z up, body = IMU frame)
 // plus a list of past clones (R, v, p). The error state is ordered
 //   [dtheta, dv, dp, dbg, dba | clone_0 (dtheta, dv, dp) | clone_1 ...]
-// with rotations perturbed on the right (R = R_hat Exp(dtheta), the hdvio convention) and
-// everything else additive. IMU noise is given as continuous-time densities and discretized per
-// step. Updates use a relative-position measurement between two clones,
+// with rotations perturbed on the right (R = R_hat Exp(dtheta), the hdvio convention; the
+// default) or on the left (R = Exp(dtheta) R_hat, world frame, as the IMO release's scekf.py:
+// options.rotation_error) and everything else additive. A measurement's attitude_jacobian is
+// always for the right perturbation (the left filter converts it: dtheta_right = R^T
+// dtheta_left). IMU noise is given as continuous-time densities and discretized per step. Updates use a relative-position measurement between two clones,
 //   z = p_j - p_i - C v_i - J dtheta_i   (C = J = 0 for network displacements; the drag
 //                                         model's displacement depends on v_i and theta_i)
 // with the covariance update in Joseph form. IMU steps: imo_propagation.h. docs/imo.md.
@@ -45,6 +47,10 @@ struct ImoFilterOptions {
   // (zero-order hold, in runImoFilter) and the specific force is rotated with the attitude at
   // the step's start (first order). false: the two samples' mean, mid-step attitude.
   bool release_propagation = false;
+  // The attitude error convention (imo_propagation.h). The initial attitude sigmas are taken in
+  // that error's frame: body axes (right) or world axes (left; the release's "yaw" sigma is
+  // then about world z).
+  RotationError rotation_error = RotationError::kRight;
 };
 
 struct ImoClone {
@@ -80,7 +86,8 @@ struct PropagationStep {
 };
 PropagationStep propagateNominal(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel,
                                  double dt, const Vec3& gravity,
-                                 bool start_attitude = false);
+                                 bool start_attitude = false,
+                                 RotationError rotation_error = RotationError::kRight);
 
 class ImoFilter {
  public:
@@ -102,7 +109,12 @@ class ImoFilter {
   // H (m x (15 + 9 N)) with respect to the error state, covariance R (m x m); Joseph form.
   // gate_probability in (0, 1) rejects the update when r' S^-1 r exceeds the chi-square
   // quantile with m degrees of freedom; <= 0 applies every update.
+  // H is in the filter's convention: build it for the right perturbation and pass it through
+  // jacobianInFilterConvention.
   UpdateOutcome updateGeneric(const VecX& r, const MatX& H, const MatX& R, double gate_probability = 0.0);
+  // A Jacobian (any rows, 15 + 9 N columns) whose attitude columns are for the right
+  // perturbation, in the filter's convention (unchanged for the right one).
+  MatX jacobianInFilterConvention(const MatX& H_right) const;
 
   const ImoNominalState& state() const { return x_; }
   const std::vector<ImoClone>& clones() const { return clones_; }
@@ -118,6 +130,10 @@ class ImoFilter {
   void inject(const VecX& dx);
 
  private:
+  // A right-perturbation attitude Jacobian block (3 columns) for the rotation R, in the
+  // filter's own convention.
+  Mat3 attitudeBlock(const Mat3& J_right, const Mat3& R) const;
+  Mat3 perturbed(const Mat3& R, const Vec3& dtheta) const;
   void syncCrossCovariance();
   int dim() const { return kStateDim + kCloneDim * static_cast<int>(clones_.size()); }
   // The covariance proper: the top-left dim() x dim() block of the storage P_.

@@ -1,7 +1,8 @@
 #pragma once
 // One IMU propagation step of the IMO filter, by the blocks of its error-state transition.
 // With the error state [dtheta, dv, dp, dbg, dba] the discrete transition is
-//   A = [ Tt   0    0   Tg   0  ]      Tt = dR^T, Tg = -Jr(phi) dt
+//   A = [ Tt   0    0   Tg   0  ]      right error: Tt = dR^T, Tg = -Jr(phi) dt
+//                                      left error:  Tt = I,    Tg = -R_next Jr(phi) dt
 //       [ Vt   I    0   Vg   Va ]      V* = d(velocity)/d(*)
 //       [ Pt  dt I  I   Pg   Pa ]      P* = dt/2 V*   (p gets v dt + acc dt^2 / 2)
 //       [ 0    0    0   I    0  ]
@@ -18,6 +19,11 @@ namespace hdvio::imo {
 
 using Mat15 = Eigen::Matrix<double, 15, 15>;
 
+// How the attitude error dtheta perturbs a rotation: on the right, R = R_hat Exp(dtheta) (body
+// frame, the hdvio convention), or on the left, R = Exp(dtheta) R_hat (world frame, as the IMO
+// and TLIO releases' scekf.py). v, p and the biases are additive in both.
+enum class RotationError { kRight, kLeft };
+
 struct ImoNominalState {
   Timestamp t = 0;
   Mat3 R = Mat3::Identity();
@@ -28,9 +34,9 @@ struct ImoNominalState {
 };
 
 struct StepTransition {
-  Mat3 theta_theta = Mat3::Identity();  // dR^T
-  Mat3 theta_bg = Mat3::Zero();         // -Jr(phi) dt
-  Mat3 vel_theta = Mat3::Zero();
+  Mat3 theta_theta = Mat3::Identity();  // dR^T (right), I (left)
+  Mat3 theta_bg = Mat3::Zero();         // -Jr(phi) dt (right), -R_next Jr(phi) dt (left)
+  Mat3 vel_theta = Mat3::Zero();        // -R_mid [a]x dR_half^T dt (right), -[R_mid a]x dt (left)
   Mat3 vel_bg = Mat3::Zero();
   Mat3 vel_ba = Mat3::Zero();           // -R_mid dt
   double dt = 0.0;
@@ -46,9 +52,10 @@ struct NominalStep {
 
 // Nominal state after dt with bias-free rates held constant over the step (specific force
 // rotated with the mid-step attitude, or with the start attitude when start_attitude: the
-// IMO release's first-order step) and its transition.
+// IMO release's first-order step) and its transition for the given attitude error convention.
 NominalStep propagateStep(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel, double dt,
-                          const Vec3& gravity, bool start_attitude = false);
+                          const Vec3& gravity, bool start_attitude = false,
+                          RotationError rotation_error = RotationError::kRight);
 
 // X <- A X for any 15-row block (the lazily accumulated transition product).
 void applyTransition(const StepTransition& A, Mat15* X);
