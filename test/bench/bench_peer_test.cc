@@ -130,6 +130,24 @@ TEST_F(BenchPeer, PeerColumnsBesideTheExperiments) {
   EXPECT_NE(row(readFile(out / "table.md"), "asl").find("| 0.050 / 0.00 |"), std::string::npos);
 }
 
+// A peer writing a stamp twice (as estimators do, e.g. evo's ORB-SLAM example) is evaluated as
+// hdvio_eval does, and the run says so.
+TEST_F(BenchPeer, RepeatedPeerStampsAreAWarning) {
+  std::ofstream(dir_ / "peers" / "repeat.sh")
+      << "#!/bin/sh\nset -e\n\"$(dirname \"$0\")/fake.sh\" \"$1\" \"$2\"\n"
+         "awk 'NR == 3 {print} {print}' \"$2\" > \"$2.tmp\" && mv \"$2.tmp\" \"$2\"\n";
+  fs::permissions(dir_ / "peers" / "repeat.sh", fs::perms::owner_all);
+  const fs::path m = dir_ / "repeat_matrix.yaml";
+  std::ofstream(m) << "experiments:\n  - {name: vio, config: " << kSource << "/config/experiments/vio.yaml}\npeers:\n  - {name: peer_repeat, command: peers/repeat.sh}\n"
+                   << "sequences:\n  - {name: asl, dataset: " << seq().string() << "}\nmetrics: {plots: false}\n";
+  const fs::path out = dir_ / "repeat_out";
+  const Outcome o = bench("--matrix " + m.string() + " --out " + out.string() + " --only peer_");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  EXPECT_NE(o.output.find("hdvio_bench: asl/peer_repeat: warning: "), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("1 pose repeats the previous timestamp"), std::string::npos) << o.output;
+  EXPECT_NE(row(readFile(out / "table.md"), "asl").find("| 0.0"), std::string::npos) << readFile(out / "table.md");
+}
+
 TEST_F(BenchPeer, EmittedPeerLinesRunAndAggregate) {
   const fs::path out = dir_ / "emit";
   const Outcome o = bench("--matrix " + matrix().string() + " --out " + out.string() +

@@ -7,6 +7,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -187,6 +188,8 @@ std::vector<RunMetrics> collectResults(const Matrix& matrix, const std::vector<R
       try {
         gt = run::loadRunGroundTruth(path, nullptr);
         if (!gt) gt_problem = "the sequence has no ground truth";
+        if (gt && gt->trajectory.repeated_stamps > 0)
+          std::cerr << "hdvio_bench: " << seq.name << ": " << eval::repeatedStampsWarning(gt->trajectory) << "\n";
       } catch (const std::exception& e) {
         gt_problem = std::string("ground truth: ") + e.what();
       }
@@ -231,6 +234,10 @@ std::vector<RunMetrics> collectResults(const Matrix& matrix, const std::vector<R
       try {
         const eval::Estimate est = eval::loadEstimate(
             eval::resultFolderSpec(estimateName(*j), j->result_dir), eval::TrajectoryFormat::kAuto);
+        // As hdvio_eval: repeated stamps are kept and associated one by one (evo's way), and said.
+        if (est.trajectory.repeated_stamps > 0)
+          std::cerr << "hdvio_bench: " << seq.name << "/" << j->experiment << ": "
+                    << eval::repeatedStampsWarning(est.trajectory) << "\n";
         if (est.trajectory.size() > 1)
           m.duration_s = secondsBetween(est.trajectory.t.front(), est.trajectory.t.back());
         report.results.push_back(eval::evaluateEstimate(*gt, est, options, report.distances));

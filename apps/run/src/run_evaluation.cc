@@ -129,6 +129,8 @@ bool evaluateRun(const Sequence& seq, const std::string& dataset_path,
     eval::EvaluationReport report;
     report.ground_truth_source = dataset_path;
     report.options = eo;
+    for (const eval::Trajectory* traj : {&gt->trajectory, &est.trajectory})
+      if (traj->repeated_stamps > 0) std::fprintf(stderr, "hdvio_run: %s\n", eval::repeatedStampsWarning(*traj).c_str());
     report.distances = eval::relativeErrorDistances(*gt, eo);
     report.results.push_back(eval::evaluateEstimate(*gt, est, eo, report.distances));
     eval::writeReport(report, *gt, out_dir.string());
