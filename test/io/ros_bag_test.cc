@@ -13,6 +13,7 @@
 #include "bag_flight.h"
 #include "hdvio/core/error.h"
 #include "hdvio/io/asl.h"
+#include "hdvio/io/csv.h"
 #include "hdvio/io/image.h"
 #include "hdvio/io/ros_bag.h"
 #include "hdvio/io/sequence_reader.h"
@@ -100,6 +101,36 @@ TEST_F(RosBag, TransformStampedAndOdometryGroundTruth) {
   EXPECT_LT((seq.groundtruth[0].v_W - g.T_WB.q * Vec3(1.0, -2.0, 0.5)).norm(), 1e-12);
   EXPECT_EQ(seq.groundtruth[0].T_WB.p, g.T_WB.p);
   EXPECT_FALSE(seq.camera.has_value()) << "no images, no calibration needed";
+}
+
+// EuRoC's Vicon topic is the marker, not the body: with vicon0/sensor.yaml (T_BS: marker ->
+// body) in the calibration folder the ground truth becomes the body pose again.
+TEST_F(RosBag, ViconSensorYamlMovesGroundTruthFromTheMarkerToTheBody) {
+  const Pose T_BS(Quat(Eigen::AngleAxisd(1.9, Vec3(0.3, -1.0, 0.2).normalized())), Vec3(0.069, -0.028, -0.124));
+  test::Flight marker = flight_;
+  for (GroundTruthState& g : marker.seq.groundtruth) g.T_WB = g.T_WB * T_BS;  // what the Vicon sees
+  const std::string bag = dir_ / "marker.bag";
+  writeBytes(bag, test::flightBag(marker, "none", "mono8", "geometry_msgs/TransformStamped"));
+  const Sequence raw = readRosBag(bag, bagOptions());
+  ASSERT_EQ(raw.groundtruth.size(), asl_.groundtruth.size());
+  EXPECT_GT((raw.groundtruth[7].T_WB.p - asl_.groundtruth[7].T_WB.p).norm(), 0.1) << "without it: the marker";
+
+  const Mat4 M = T_BS.matrix();
+  std::string data;
+  for (int i = 0; i < 16; ++i) data += (i ? ", " : "") + formatDouble(M(i / 4, i % 4));
+  fs::create_directories(dir_ / "asl/mav0/vicon0");
+  writeBytes(dir_ / "asl/mav0/vicon0/sensor.yaml", "%YAML:1.0\nsensor_type: vicon\ncomment: VICON motion capture system\n"
+                                                   "T_BS:\n  cols: 4\n  rows: 4\n  data: [" + data + "]\n");
+  const Sequence body = readRosBag(bag, bagOptions());
+  fs::remove_all(dir_ / "asl/mav0/vicon0");
+  ASSERT_EQ(body.groundtruth.size(), asl_.groundtruth.size());
+  for (std::size_t i = 0; i < body.groundtruth.size(); ++i) {
+    EXPECT_LT((body.groundtruth[i].T_WB.p - asl_.groundtruth[i].T_WB.p).norm(), 1e-9) << i;
+    EXPECT_LT(body.groundtruth[i].T_WB.q.angularDistance(asl_.groundtruth[i].T_WB.q), 1e-9) << i;
+  }
+  bool warned = false;
+  for (const std::string& w : body.warnings) warned = warned || w.find("marker to the body") != std::string::npos;
+  EXPECT_TRUE(warned);
 }
 
 TEST_F(RosBag, AgirosCollectiveThrustAlongTheMappedAxis) {

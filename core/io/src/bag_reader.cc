@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include "bag_format.h"
@@ -78,9 +79,10 @@ void emit(std::vector<Pending<Sample>>* pending, const std::string& file, const 
 struct CalibrationExtras {
   double timeshift_cam_imu = 0.0;
   bool camera_rate_from_stamps = false;
+  std::optional<Pose> groundtruth_T_BS;  // ground-truth sensor (mocap marker) -> body
 };
 
-void readAslCalibration(const std::string& folder, bool has_images, Sequence* seq) {
+CalibrationExtras readAslCalibration(const std::string& folder, bool has_images, Sequence* seq) {
   fs::path root = folder;
   if (fs::is_directory(root / "mav0")) root /= "mav0";
   const fs::path cam = root / "cam0" / "sensor.yaml", imu = root / "imu0" / "sensor.yaml";
@@ -92,6 +94,10 @@ void readAslCalibration(const std::string& folder, bool has_images, Sequence* se
   }
   const fs::path rotor = root / "rotor0" / "sensor.yaml";
   if (fs::exists(rotor)) seq->rotor_calibration = readRotorSensorYaml(rotor.string());
+  CalibrationExtras extras;
+  const fs::path vicon = root / "vicon0" / "sensor.yaml";
+  if (fs::exists(vicon)) extras.groundtruth_T_BS = readSensorExtrinsics(vicon.string());
+  return extras;
 }
 
 CalibrationExtras readKalibrCalibration(const std::string& files, bool has_images, Sequence* seq) {
@@ -103,7 +109,7 @@ CalibrationExtras readKalibrCalibration(const std::string& files, bool has_image
     if (!fs::is_regular_file(file))
       throw InputError(file.empty() ? "--calibration" : file, 0,
                        "calibration folder or file does not exist (--calibration takes an ASL folder or Kalibr files: "
-                       "camchain.yaml,imu.yaml[,rotor0 sensor.yaml])");
+                       "camchain.yaml,imu.yaml[,rotor0 / vicon0 sensor.yaml])");
     readKalibrYaml(file, &k);
     begin = comma + 1;
   }
@@ -113,6 +119,7 @@ CalibrationExtras readKalibrCalibration(const std::string& files, bool has_image
   seq->imu_calibration = k.imu;
   seq->rotor_calibration = k.rotor;
   CalibrationExtras extras;
+  extras.groundtruth_T_BS = k.groundtruth_T_BS;
   if (has_images) {
     // The camchain gives camera -> IMU; the sequence wants camera -> body.
     CameraCalibration camera = *k.camera;
@@ -135,21 +142,35 @@ CalibrationExtras readCalibration(const std::string& spec, bool has_images, Sequ
                                            "or Kalibr's <camchain-imucam.yaml>,<imu.yaml>");
     return {};
   }
-  if (fs::is_directory(spec)) {
-    readAslCalibration(spec, has_images, seq);
-    return {};
-  }
+  if (fs::is_directory(spec)) return readAslCalibration(spec, has_images, seq);
   return readKalibrCalibration(spec, has_images, seq);
 }
 
-// Kalibr's camera clock correction (t_imu = t_cam + shift) and, for a camchain, the camera rate
-// from the stamps.
+// Kalibr's camera clock correction (t_imu = t_cam + shift), the ground truth moved from the
+// mocap marker to the body, and, for a camchain, the camera rate from the stamps.
 void applyCalibrationExtras(const CalibrationExtras& extras, const std::string& path, Sequence* seq) {
   if (extras.timeshift_cam_imu != 0.0) {
     const Timestamp shift = fromSeconds(extras.timeshift_cam_imu);
     for (ImageRef& image : seq->images) image.t += shift;
     seq->warnings.push_back("image stamps moved by Kalibr's timeshift_cam_imu (" +
                             std::to_string(extras.timeshift_cam_imu) + " s) to the IMU clock");
+  }
+  if (extras.groundtruth_T_BS && !seq->groundtruth.empty()) {
+    // EuRoC's Vicon topic is the marker's pose: body = marker * (body -> marker).
+    const Pose T_SB = extras.groundtruth_T_BS->inverse();
+    const bool moved = T_SB.p.norm() > 0.0;
+    std::size_t dropped = 0;
+    for (GroundTruthState& g : seq->groundtruth) {
+      g.T_WB = g.T_WB * T_SB;
+      // The marker's velocity is not the body's when they are apart (it needs the rate).
+      if (moved && g.has_velocity) {
+        g.has_velocity = false;
+        g.v_W.setZero();
+        ++dropped;
+      }
+    }
+    seq->warnings.push_back("ground truth moved from the marker to the body frame (vicon0/sensor.yaml T_BS)" +
+                            (dropped ? "; " + std::to_string(dropped) + " marker velocities dropped" : std::string()));
   }
   if (extras.camera_rate_from_stamps && seq->camera) {
     if (seq->images.size() < 2)

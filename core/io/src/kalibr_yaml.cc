@@ -97,6 +97,11 @@ void readKalibrYaml(const std::string& path, KalibrCalibration* out) {
     out->rotor = readRotorSensorYaml(path);
     return;
   }
+  if (y.has("sensor_type") && y.text("sensor_type") == "vicon") {
+    if (out->groundtruth_T_BS) throw InputError(path, 0, "a second vicon0/sensor.yaml (one is enough)");
+    out->groundtruth_T_BS = readSensorExtrinsics(path);
+    return;
+  }
   if (y.has("sensor_type") || y.has("T_BS"))
     throw InputError(path, 0, "an ASL sensor.yaml, not a Kalibr file: pass the folder holding cam0/ and imu0/");
   if (y.has("cam0")) {

@@ -16,11 +16,12 @@ struct KalibrCalibration {
   double timeshift_cam_imu = 0.0;           // [s], t_imu = t_cam + timeshift_cam_imu
   std::optional<ImuCalibration> imu;        // T_BS: IMU -> body (inverse of T_i_b, identity if absent)
   std::optional<RotorCalibration> rotor;    // from an ASL rotor0/sensor.yaml in the list
+  std::optional<Pose> groundtruth_T_BS;     // from an ASL vicon0/sensor.yaml in the list
   std::vector<std::string> warnings;
 };
 
 // Reads one file into out: a camchain (a top-level cam0 map), an IMU file, or an ASL
-// rotor0/sensor.yaml (Kalibr has no rotor model). Throws InputError
+// rotor0/ or vicon0/sensor.yaml (Kalibr has neither a rotor model nor the mocap marker). Throws InputError
 // naming the file and line for anything else, unknown keys, unsupported models, a second
 // camchain or IMU file.
 void readKalibrYaml(const std::string& path, KalibrCalibration* out);

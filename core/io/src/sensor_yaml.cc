@@ -114,6 +114,8 @@ RotorCalibration readRotorSensorYaml(const std::string& path) {
   return c;
 }
 
+Pose readSensorExtrinsics(const std::string& path) { return YamlFields(path).transform("T_BS"); }
+
 void validateCamera(const CameraCalibration& c, const std::string& file) {
   if (c.width <= 0 || c.height <= 0) throw InputError(file, 0, "camera resolution must be positive");
   if (!(c.fu > 0 && c.fv > 0 && c.cu > 0 && c.cv > 0))

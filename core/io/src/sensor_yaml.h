@@ -9,6 +9,9 @@ namespace hdvio::io {
 ImuCalibration readImuSensorYaml(const std::string& path);
 CameraCalibration readCameraSensorYaml(const std::string& path);
 RotorCalibration readRotorSensorYaml(const std::string& path);
+// T_BS (sensor -> body) of a sensor.yaml that carries only its extrinsics, e.g. EuRoC's
+// vicon0/sensor.yaml (the motion-capture marker frame).
+Pose readSensorExtrinsics(const std::string& path);
 
 std::string imuSensorYaml(const ImuCalibration& calib);
 std::string cameraSensorYaml(const CameraCalibration& calib);
