@@ -99,6 +99,20 @@ void yamlSeeds(const fs::path& euroc) {
   seed("fuzz_sensor_yaml", "topics", std::string(1, 3) +
        "imu: /imu0\ncamera: /cam0/image_raw\nrotor_speeds: /rotors\nthrust: /thrust\n"
        "thrust_axis: [0, 0, 1]\ngroundtruth: /vicon\n");
+  seed("fuzz_sensor_yaml", "kalibr_camchain", std::string(1, 4) +
+       "cam0:\n  cam_overlaps: []\n  camera_model: pinhole\n  distortion_coeffs: [-0.28, 0.07, 0.0002, 1.8e-05]\n"
+       "  distortion_model: radtan\n  intrinsics: [458.654, 457.296, 367.215, 248.375]\n  resolution: [752, 480]\n"
+       "  rostopic: /cam0/image_raw\n  timeshift_cam_imu: -8.1e-05\n  T_cam_imu:\n"
+       "  - [0.0148655, 0.9995572, -0.0257744, 0.0652229]\n  - [-0.9998809, 0.0149672, 0.0037561, -0.0207064]\n"
+       "  - [0.0041403, 0.0257155, 0.9996608, -0.0080546]\n  - [0.0, 0.0, 0.0, 1.0]\n");
+  seed("fuzz_sensor_yaml", "kalibr_imu", std::string(1, 4) +
+       "accelerometer_noise_density: 2.0e-3\naccelerometer_random_walk: 3.0e-3\n"
+       "gyroscope_noise_density: 1.7e-4\ngyroscope_random_walk: 1.9e-5\nrostopic: /imu0\nupdate_rate: 200.0\n");
+  seed("fuzz_sensor_yaml", "kalibr_imu0", std::string(1, 4) +
+       "imu0:\n  T_i_b:\n  - [1.0, 0.0, 0.0, 0.0]\n  - [0.0, 1.0, 0.0, 0.0]\n  - [0.0, 0.0, 1.0, 0.0]\n"
+       "  - [0.0, 0.0, 0.0, 1.0]\n  accelerometer_noise_density: 2.0e-3\n  accelerometer_random_walk: 3.0e-3\n"
+       "  gyroscope_noise_density: 1.7e-4\n  gyroscope_random_walk: 1.9e-5\n  model: calibrated\n"
+       "  rostopic: /imu0\n  time_offset: 0.0\n  update_rate: 200.0\n");
   if (euroc.empty()) return;
   for (auto [mode, rel] : {std::pair<int, const char*>{0, "imu0/sensor.yaml"}, {1, "cam0/sensor.yaml"}}) {
     if (fs::exists(euroc / "mav0" / rel))

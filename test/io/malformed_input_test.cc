@@ -394,6 +394,29 @@ TEST(MalformedDatasets, StorageSmallerThanShapeIsAnInputError) {
   }
 }
 
+// Files on which libhdf5 1.10.8 itself crashed (test/io/data/README.md): one clear error naming
+// the file, from the readers and from the tools (libhdf5 runs in a child process).
+TEST(MalformedDatasets, FilesThatCrashLibhdf5AreInputErrors) {
+  for (const char* name : {"libhdf5_crash_compact_dataset.hdf5", "libhdf5_crash_symbol_table.hdf5"}) {
+    SCOPED_TRACE(name);
+    const test::TempDir dir("h5crash");
+    fs::create_directories(dir / "seq");
+    const std::string h5 = dir / "seq/data.hdf5";
+    fs::copy_file(std::string(HDVIO_TEST_IO_DATA) + "/" + name, h5);
+    for (int reader = 0; reader < 3; ++reader) {
+      try {
+        reader == 0 ? readDido(dir / "seq") : reader == 1 ? readBlackbird(dir / "seq") : readSequence(dir / "seq");
+        ADD_FAILURE() << "accepted";
+      } catch (const InputError& e) {
+        EXPECT_EQ(e.file().rfind(h5, 0), 0u) << e.what();  // the file, or one of its datasets
+      }
+    }
+    std::string err;
+    EXPECT_EQ(run(std::string(HDVIO_INFO_BIN) + " " + h5, &err), 2) << err;
+    EXPECT_EQ(err.rfind("error: " + h5, 0), 0u) << err;
+  }
+}
+
 // A time of 1e300 s was converted to int64 ns (undefined behaviour).
 TEST(MalformedDatasets, HdfTimeBeyondInt64Nanoseconds) {
   const test::TempDir dir("h5time");

@@ -1,8 +1,11 @@
 #pragma once
-// Minimal read-only access to the 1-D / 2-D float datasets of the Blackbird and DIDO files.
-#include <cstdint>
+// Minimal read-only access to the 1-D / 2-D float datasets of the Blackbird and DIDO files. The
+// file is read once, whole, by libhdf5 in a child process (hdf5_snapshot.h): a damaged file that
+// crashes libhdf5 is an InputError, not a crash of the reader's program.
 #include <string>
 #include <vector>
+
+#include "hdf5_snapshot.h"
 
 namespace hdvio::io {
 
@@ -18,9 +21,6 @@ class Hdf5File {
  public:
   // Throws InputError if path is missing or not an HDF5 file.
   explicit Hdf5File(const std::string& path);
-  ~Hdf5File();
-  Hdf5File(const Hdf5File&) = delete;
-  Hdf5File& operator=(const Hdf5File&) = delete;
 
   bool has(const std::string& dataset) const;
   std::vector<std::string> datasets() const;  // top-level names
@@ -33,9 +33,10 @@ class Hdf5File {
   std::string where(const std::string& dataset) const { return path_ + "[" + dataset + "]"; }
 
  private:
+  const Hdf5Entry* find(const std::string& dataset) const;
+
   std::string path_;
-  std::uintmax_t file_size_ = 0;
-  long long id_ = -1;
+  std::vector<Hdf5Entry> entries_;
 };
 
 }  // namespace hdvio::io

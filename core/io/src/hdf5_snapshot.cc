@@ -1,0 +1,221 @@
+#include "hdf5_snapshot.h"
+
+#include <hdf5.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+#include "hdvio/core/error.h"
+
+namespace hdvio::io {
+namespace {
+
+enum Status : std::uint64_t { kOk = 0, kNotHdf5 = 1, kCannotOpen = 2 };
+
+// A dataset's declared shape is allocated as is: bounded (DIDO's longest flight: ~1e6 rows).
+constexpr hsize_t kMaxValues = hsize_t{1} << 25;  // 256 MiB as doubles
+
+herr_t collectName(hid_t, const char* name, const H5L_info_t*, void* out) {
+  static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+  return 0;
+}
+
+// libhdf5 trusts a dataset's layout message: a compact or contiguous dataset whose stored bytes
+// are fewer than its shape needs (or lie past the end of the file) is copied out of bounds inside
+// H5Dread. Chunked datasets are read through the chunk index, which libhdf5 checks itself.
+bool storageMatchesShape(hid_t d, hid_t space, hid_t type, std::uintmax_t file_size) {
+  const hid_t dcpl = H5Dget_create_plist(d);
+  const H5D_layout_t layout = H5Pget_layout(dcpl);
+  H5Pclose(dcpl);
+  if (layout == H5D_CHUNKED) return true;
+  if (layout != H5D_COMPACT && layout != H5D_CONTIGUOUS) return false;
+  const hssize_t points = H5Sget_simple_extent_npoints(space);
+  const std::size_t value_size = H5Tget_size(type);
+  if (points < 0 || value_size == 0) return false;
+  const hsize_t stored = H5Dget_storage_size(d);
+  if (layout == H5D_CONTIGUOUS) {
+    const haddr_t offset = H5Dget_offset(d);
+    if (offset == HADDR_UNDEF) return stored == 0;  // never written: libhdf5 returns fill values
+    if (offset > file_size || stored > file_size - offset) return false;
+  }
+  return stored == static_cast<hsize_t>(points) * value_size;
+}
+
+Hdf5Entry readEntry(hid_t file, const std::string& name, std::uintmax_t file_size) {
+  Hdf5Entry e;
+  e.name = name;
+  bool ok = false, too_large = false, damaged = false;
+  const hid_t d = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (d >= 0) {
+    const hid_t space = H5Dget_space(d);
+    const hid_t type = H5Dget_type(d);
+    const int ndims = H5Sget_simple_extent_ndims(space);
+    const H5T_class_t cls = H5Tget_class(type);
+    hsize_t dims[2] = {0, 1};
+    if ((ndims == 1 || ndims == 2) && (cls == H5T_FLOAT || cls == H5T_INTEGER)) {
+      H5Sget_simple_extent_dims(space, dims, nullptr);
+      e.rows = dims[0];
+      e.cols = ndims == 2 ? dims[1] : 1;
+      too_large = e.rows > kMaxValues || e.cols > kMaxValues || e.rows * e.cols > kMaxValues;
+      damaged = !too_large && !storageMatchesShape(d, space, type, file_size);
+      if (!too_large && !damaged) {
+        e.values.resize(e.rows * e.cols);
+        ok = e.values.empty() ||
+             H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, e.values.data()) >= 0;
+      }
+    }
+    H5Tclose(type);
+    H5Sclose(space);
+    H5Dclose(d);
+  }
+  const std::string shape = std::to_string(e.rows) + " x " + std::to_string(e.cols);
+  if (too_large)
+    e.problem = "dataset of " + shape + " values is larger than the readers accept (2^25 values)";
+  else if (damaged)
+    e.problem = "damaged dataset: its stored bytes do not match its " + shape + " shape (corrupt file?)";
+  else if (!ok)
+    e.problem = "cannot read as a 1-D or 2-D numeric dataset";
+  if (!e.problem.empty()) e.values.clear();
+  return e;
+}
+
+// The child's side: everything libhdf5 is asked, in-process.
+std::vector<Hdf5Entry> readInProcess(const std::string& path, Status* status) {
+  std::vector<Hdf5Entry> entries;
+  const std::uintmax_t file_size = std::filesystem::file_size(path);
+  H5E_BEGIN_TRY {
+    const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
+    const hid_t file = is_hdf5 > 0 ? H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT) : -1;
+    *status = is_hdf5 <= 0 ? kNotHdf5 : (file < 0 ? kCannotOpen : kOk);
+    if (file >= 0) {
+      // A damaged link table ends the listing; the readers then name what was found.
+      std::vector<std::string> names;
+      H5Literate(file, H5_INDEX_NAME, H5_ITER_INC, nullptr, collectName, &names);
+      for (const std::string& name : names) entries.push_back(readEntry(file, name, file_size));
+      H5Fclose(file);
+    }
+  }
+  H5E_END_TRY;
+  return entries;
+}
+
+void put(std::string* out, std::uint64_t v) { out->append(reinterpret_cast<const char*>(&v), sizeof v); }
+void put(std::string* out, const std::string& s) {
+  put(out, s.size());
+  out->append(s);
+}
+
+std::string encode(Status status, const std::vector<Hdf5Entry>& entries) {
+  std::string out;
+  put(&out, status);
+  put(&out, entries.size());
+  for (const Hdf5Entry& e : entries) {
+    put(&out, e.name);
+    put(&out, e.problem);
+    put(&out, e.rows);
+    put(&out, e.cols);
+    put(&out, e.values.size());
+    out.append(reinterpret_cast<const char*>(e.values.data()), e.values.size() * sizeof(double));
+  }
+  return out;
+}
+
+// Decodes what the child wrote (trusted: the same program wrote it).
+class Decoder {
+ public:
+  explicit Decoder(const std::string& bytes) : bytes_(bytes) {}
+  std::uint64_t u64() {
+    std::uint64_t v = 0;
+    take(&v, sizeof v);
+    return v;
+  }
+  std::string text() {
+    std::string s(u64(), '\0');
+    take(s.data(), s.size());
+    return s;
+  }
+  void take(void* dst, std::size_t n) {
+    if (n > bytes_.size() - at_) throw std::runtime_error("HDF5 reader: truncated result from the child process");
+    std::memcpy(dst, bytes_.data() + at_, n);
+    at_ += n;
+  }
+
+ private:
+  const std::string& bytes_;
+  std::size_t at_ = 0;
+};
+
+bool writeAll(int fd, const std::string& bytes) {
+  for (std::size_t done = 0; done < bytes.size();) {
+    const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<Hdf5Entry> readHdf5Snapshot(const std::string& path) {
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error("HDF5 reader: pipe() failed: " + std::string(std::strerror(errno)));
+  const pid_t child = fork();
+  if (child < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    throw std::runtime_error("HDF5 reader: fork() failed: " + std::string(std::strerror(errno)));
+  }
+  if (child == 0) {
+    close(fds[0]);
+    Status status = kOk;
+    std::vector<Hdf5Entry> entries;
+    try {
+      entries = readInProcess(path, &status);
+    } catch (...) {
+      _exit(3);
+    }
+    _exit(writeAll(fds[1], encode(status, entries)) ? 0 : 4);
+  }
+  close(fds[1]);
+  std::string bytes;
+  char buf[1 << 16];
+  for (;;) {
+    const ssize_t n = read(fds[0], buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    bytes.append(buf, static_cast<std::size_t>(n));
+  }
+  close(fds[0]);
+  int wstatus = 0;
+  while (waitpid(child, &wstatus, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFSIGNALED(wstatus))
+    throw InputError(path, 0, "damaged HDF5 file: libhdf5 crashed reading it (signal " +
+                                  std::to_string(WTERMSIG(wstatus)) + ": " + strsignal(WTERMSIG(wstatus)) + ")");
+  if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0)
+    throw InputError(path, 0, "cannot read HDF5 file (its reader process failed with code " +
+                                  std::to_string(WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : -1) + ")");
+  Decoder in(bytes);
+  const std::uint64_t status = in.u64();
+  if (status == kNotHdf5) throw InputError(path, 0, "not an HDF5 file");
+  if (status == kCannotOpen) throw InputError(path, 0, "cannot open HDF5 file");
+  std::vector<Hdf5Entry> entries(in.u64());
+  for (Hdf5Entry& e : entries) {
+    e.name = in.text();
+    e.problem = in.text();
+    e.rows = in.u64();
+    e.cols = in.u64();
+    e.values.resize(in.u64());
+    in.take(e.values.data(), e.values.size() * sizeof(double));
+  }
+  return entries;
+}
+
+}  // namespace hdvio::io
