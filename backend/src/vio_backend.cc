@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <stdexcept>
 
 #include "hdvio/backend/triangulation.h"
+#include "hdvio/core/thread_clock.h"
 #include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
 #include "hdvio/factors/prior_factors.h"
@@ -19,13 +19,6 @@ using symbols::V;
 using symbols::X;
 
 namespace {
-// CPU time of the calling thread: the per-frame cost on one core, whatever else runs.
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 SmootherOptions smootherOptions(const VioBackendOptions& o) {
   SmootherOptions s;
   s.optimizer.max_iterations = o.max_iterations;
