@@ -64,14 +64,14 @@ int main(int argc, char** argv) {
     const hdvio::imo::DragFit fit = hdvio::imo::fitDragModel(samples, FLAGS_fit_thrust_scale);
     std::printf("samples %zu\n", fit.samples);
     std::printf("thrust_scale: %.6f\nlinear_drag: [%.6f, %.6f, %.6f]\n", fit.model.thrust_scale,
-                fit.model.linear_drag.x(), fit.model.linear_drag.y(), fit.model.linear_drag.z());
+                fit.model.drag.linear.x(), fit.model.drag.linear.y(), fit.model.drag.linear.z());
     std::printf("world-frame residual R (f - model) [m/s^2], x y z:\n");
     printVec("thrust only (k 1, d 0) mean", fit.mean_thrust_only);
     printVec("thrust only rms", fit.rms_thrust_only);
     printVec("fitted mean", fit.mean_fitted);
     printVec("fitted rms", fit.rms_fitted);
     if (FLAGS_drag_law) {
-      const hdvio::imo::DragLawFit law = hdvio::imo::fitDragLaw(samples, fit.model.thrust_scale);
+      const hdvio::imo::DragLawFit law = hdvio::imo::fitDragLawOnSamples(samples, fit.model.thrust_scale);
       const hdvio::Vec3 &d = law.law.linear, &c = law.law.quadratic;
       std::printf("drag law (hybrid dynamics), backend keys:\n");
       std::printf("  drag_linear: [%.6f, %.6f, %.6f]\n  drag_quadratic: [%.6f, %.6f, %.6f]\n",

@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
+#include <stdexcept>
 
 #include "hdvio/backend/triangulation.h"
-#include "hdvio/factors/dynamics_factor.h"
+#include "hdvio/core/thread_clock.h"
+#include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
 #include "hdvio/factors/prior_factors.h"
 #include "hdvio/factors/reprojection_factor.h"
@@ -18,13 +19,6 @@ using symbols::V;
 using symbols::X;
 
 namespace {
-// CPU time of the calling thread: the per-frame cost on one core, whatever else runs.
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 SmootherOptions smootherOptions(const VioBackendOptions& o) {
   SmootherOptions s;
   s.optimizer.max_iterations = o.max_iterations;
@@ -164,8 +158,21 @@ void VioBackend::addInertialFactors(const StateSlot& from, std::uint64_t k, Time
     const Vec3 f_W = Ri * (pit->correctedGamma(s.bias) - drag.beta) / dt;
     dynamics.force_random_walk = force_walk_->update(f_W, dt);
   }
-  graph->add(std::make_shared<DynamicsFactor>(X(i), V(i), F(i), X(k), V(k), F(k), B(i), pit,
-                                              dynamics));
+  // vimo / vid hold the force on F_i: F(k) enters with the next interval's factor.
+  switch (options_.method) {
+    case VioMethod::kHdvio:
+      graph->add(std::make_shared<HdvioDynamicsFactor>(X(i), V(i), F(i), X(k), V(k), F(k), B(i),
+                                                       pit, dynamics));
+      break;
+    case VioMethod::kVimo:
+      graph->add(std::make_shared<VimoDynamicsFactor>(X(i), V(i), F(i), X(k), V(k), B(i), pit, dynamics));
+      break;
+    case VioMethod::kVid:
+      graph->add(std::make_shared<VidDynamicsFactor>(X(i), V(i), F(i), X(k), V(k), B(i), pit, dynamics));
+      break;
+    default:
+      throw std::logic_error("VioBackend: no dynamics factor for this method");
+  }
 }
 
 FrameResult VioBackend::addFrame(const FrameObservations& frame) {

@@ -40,9 +40,6 @@ namespace {
 void finalize(VioBackendOptions* o) {
   o->thrust.gyro_noise_density = o->imu.gyro_noise_density;
   o->thrust.gyro_random_walk = o->imu.gyro_random_walk;
-  o->dynamics.variant = o->method == VioMethod::kVid     ? DynamicsVariant::kVidFusion
-                        : o->method == VioMethod::kHdvio ? DynamicsVariant::kHdvio
-                                                         : DynamicsVariant::kVimo;
 }
 }  // namespace
 

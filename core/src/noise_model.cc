@@ -1,6 +1,7 @@
 #include "hdvio/core/noise_model.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <stdexcept>
 
 namespace hdvio {
@@ -17,7 +18,7 @@ std::shared_ptr<const NoiseModel> NoiseModel::diagonal(const Eigen::VectorXd& si
     throw std::invalid_argument("NoiseModel::diagonal: sigmas must be positive and finite");
   std::shared_ptr<NoiseModel> m(new NoiseModel());
   m->dim_ = static_cast<int>(sigmas.size());
-  m->diagonal_ = true;
+  m->dense_block_ = 0;
   m->inv_sigmas_ = sigmas.cwiseInverse();
   return m;
 }
@@ -27,7 +28,7 @@ std::shared_ptr<const NoiseModel> NoiseModel::sqrtInformation(const Eigen::Matri
     throw std::invalid_argument("NoiseModel::sqrtInformation: need a finite square matrix");
   std::shared_ptr<NoiseModel> m(new NoiseModel());
   m->dim_ = static_cast<int>(S.rows());
-  m->diagonal_ = false;
+  m->dense_block_ = m->dim_;
   m->sqrt_info_ = S;
   return m;
 }
@@ -60,28 +61,44 @@ std::shared_ptr<const NoiseModel> NoiseModel::robust(
 }
 
 Eigen::MatrixXd NoiseModel::sqrtInformationMatrix() const {
-  if (diagonal_) return inv_sigmas_.asDiagonal();
-  return sqrt_info_;
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(dim_, dim_);
+  S.topLeftCorner(dense_block_, dense_block_) = sqrt_info_;
+  S.bottomRightCorner(dim_ - dense_block_, dim_ - dense_block_).diagonal() = inv_sigmas_;
+  return S;
+}
+
+Eigen::MatrixXd NoiseModel::covarianceMatrix() const {
+  const int k = dense_block_;
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(dim_, dim_);
+  C.bottomRightCorner(dim_ - k, dim_ - k).diagonal() = inv_sigmas_.cwiseAbs2().cwiseInverse();
+  if (k == 0) return C;
+  if (k < dim_) {
+    C.topLeftCorner(k, k) = dense_covariance_;
+    return C;
+  }
+  // Dense: Sigma = S^-1 S^-T.
+  const Eigen::MatrixXd S_inv = sqrt_info_.fullPivLu().inverse();
+  return S_inv * S_inv.transpose();
 }
 
 void NoiseModel::whitenResidual(double* r) const {
   Eigen::Map<Eigen::VectorXd> v(r, dim_);
-  if (diagonal_) {
-    v.array() *= inv_sigmas_.array();
-  } else {
-    const Eigen::VectorXd tmp = sqrt_info_ * v;
-    v = tmp;
+  const int k = dense_block_;
+  if (k > 0) {
+    const Eigen::VectorXd head = sqrt_info_ * v.head(k);
+    v.head(k) = head;
   }
+  v.tail(dim_ - k).array() *= inv_sigmas_.array();
 }
 
 void NoiseModel::whitenJacobian(double* J, int cols) const {
   Eigen::Map<RowMatX> M(J, dim_, cols);
-  if (diagonal_) {
-    M = inv_sigmas_.asDiagonal() * M;
-  } else {
-    const RowMatX tmp = sqrt_info_ * M;
-    M = tmp;
+  const int k = dense_block_;
+  if (k > 0) {
+    const RowMatX head = sqrt_info_ * M.topRows(k);
+    M.topRows(k) = head;
   }
+  M.bottomRows(dim_ - k) = inv_sigmas_.asDiagonal() * M.bottomRows(dim_ - k);
 }
 
 }  // namespace hdvio

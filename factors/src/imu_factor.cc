@@ -16,18 +16,14 @@ Eigen::VectorXd randomWalkSigmas(double dt, const ImuNoiseParams& p) {
 }
 }  // namespace
 
-Eigen::Matrix<double, 15, 15> ImuFactor::covarianceFor(const PreintegratedImu& pim) {
-  Eigen::Matrix<double, 15, 15> cov = Eigen::Matrix<double, 15, 15>::Zero();
-  cov.topLeftCorner<9, 9>() = pim.covariance();
-  cov.bottomRightCorner<6, 6>().diagonal() = randomWalkSigmas(pim.dt(), pim.params()).array().square();
-  return cov;
+NoiseModelPtr ImuFactor::noiseFor(const PreintegratedImu& pim) {
+  const Vec6 random_walk_variances = randomWalkSigmas(pim.dt(), pim.params()).array().square();
+  return NoiseModel::blockDiagonal<15, 9>(pim.covariance(), random_walk_variances);
 }
 
 ImuFactor::ImuFactor(Key pose_i, Key vel_i, Key bias_i, Key pose_j, Key vel_j, Key bias_j,
                      std::shared_ptr<const PreintegratedImu> pim)
-    : FactorT({pose_i, vel_i, bias_i, pose_j, vel_j, bias_j}, NoiseModel::isotropic(15, 1.0)),
-      pim_(std::move(pim)),
-      whitening_(pim_->covariance(), randomWalkSigmas(pim_->dt(), pim_->params()).array().square()) {}
+    : FactorT({pose_i, vel_i, bias_i, pose_j, vel_j, bias_j}, noiseFor(*pim)), pim_(std::move(pim)) {}
 
 bool ImuFactor::evaluateError(const double* const* x, double* residual, double** jac) const {
   const PreintegratedImu& pim = *pim_;
@@ -54,7 +50,6 @@ bool ImuFactor::evaluateError(const double* const* x, double* residual, double**
   r.segment<3>(3) = y_v - (pim.deltaV() + pim.dv_dbg() * dbg + pim.dv_dba() * dba);
   r.segment<3>(6) = y_p - (pim.deltaP() + pim.dp_dbg() * dbg + pim.dp_dba() * dba);
   r.segment<6>(9) = b_j - b_i;
-  whitening_.whitenResidual(residual);
   if (!jac) return true;
 
   const Mat3 JrInv = rightJacobianInverse(r_R);
@@ -97,12 +92,6 @@ bool ImuFactor::evaluateError(const double* const* x, double* residual, double**
     Eigen::Map<Mat15x6> J(jac[5]);
     J.setZero();
     J.block<6, 6>(9, 0) = Mat6R::Identity();
-  }
-  const int tangent[6] = {6, 3, 6, 6, 3, 6};
-  for (int k = 0; k < 6; ++k) {
-    if (!jac[k]) continue;
-    if (tangent[k] == 6) whitening_.whitenJacobian<6>(jac[k]);
-    else whitening_.whitenJacobian<3>(jac[k]);
   }
   return true;
 }

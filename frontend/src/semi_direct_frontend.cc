@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/thread_clock.h"
 #include "hdvio/frontend/keyframe_selection.h"
 #include "hdvio/frontend/pose_optimizer.h"
 #include "hdvio/frontend/reprojector.h"
@@ -15,12 +15,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double threadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
 }  // namespace
@@ -63,7 +57,7 @@ void SemiDirectFrontend::reset() {
 
 FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPrior& prior) {
   const auto t_start = Clock::now();
-  const double cpu_start = threadCpuMs();
+  const double cpu_start = threadCpuSeconds();
   if (input.image.empty() || input.image.type() != CV_8UC1)
     throw InputError("", 0, "frontend: image at t=" + std::to_string(input.t) +
                                 " is not a non-empty 8-bit grayscale image");
@@ -177,7 +171,7 @@ FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPri
   result.landmarks = static_cast<int>(map_.landmarks.size());
   result.seeds = static_cast<int>(depth_filter_.seeds().size());
   result.timing.total_ms = msSince(t_start);
-  result.timing.cpu_ms = threadCpuMs() - cpu_start;
+  result.timing.cpu_ms = 1e3 * (threadCpuSeconds() - cpu_start);
   return result;
 }
 

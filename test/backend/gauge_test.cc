@@ -5,7 +5,7 @@
 #include "hdvio/backend/schur_marginalization.h"
 #include "hdvio/backend/vio_runner.h"
 #include "hdvio/core/config.h"
-#include "hdvio/factors/dynamics_factor.h"
+#include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
 #include "hdvio/factors/reprojection_factor.h"
 #include "hdvio/sim/simulator.h"
@@ -65,7 +65,7 @@ TEST(VioGauge, MarginalizationKeepsTranslationAndYawUnobservable) {
   const CameraModel camera = CameraModel::fromCalibration(*seq.camera);
   const ImuNoiseParams imu;
   ThrustNoiseParams thrust;
-  DynamicsFactorParams dyn;  // hdvio variant: touches F_i and F_j
+  DynamicsFactorParams dyn;  // HdvioDynamicsFactor: touches F_i and F_j
 
   FactorGraph graph;
   Values values;
@@ -84,7 +84,7 @@ TEST(VioGauge, MarginalizationKeepsTranslationAndYawUnobservable) {
       graph.add(std::make_shared<ImuFactor>(
           X(k - 1), V(k - 1), B(k - 1), X(k), V(k), B(k),
           std::make_shared<PreintegratedImu>(PreintegratedImu::integrate(seq.imu, t0, t, s0.bias, imu))));
-      graph.add(std::make_shared<DynamicsFactor>(
+      graph.add(std::make_shared<HdvioDynamicsFactor>(
           X(k - 1), V(k - 1), F(k - 1), X(k), V(k), F(k), B(k - 1),
           std::make_shared<PreintegratedThrust>(
               PreintegratedThrust::integrate(seq.imu, seq.thrust, t0, t, s0.bias, thrust)),

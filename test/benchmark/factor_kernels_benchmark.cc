@@ -3,9 +3,11 @@
 // Run: hdvio_kernel_benchmarks --benchmark_min_time=0.5
 #include <benchmark/benchmark.h>
 
+#include <memory>
 #include <random>
+#include <type_traits>
 
-#include "hdvio/factors/dynamics_factor.h"
+#include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
 #include "hdvio/factors/reprojection_factor.h"
 
@@ -101,8 +103,9 @@ void BM_ImuFactorEvaluate(benchmark::State& state) {
 }
 BENCHMARK(BM_ImuFactorEvaluate);
 
-// The factor's own residual, tangent Jacobians and whitening, without what FactorT (core) adds
-// (unit-noise pass and lifting to ambient size); the difference to BM_ImuFactorEvaluate is that.
+// The factor's own residual and tangent Jacobians, without what FactorT (core) adds (fixed-size
+// whitening with the factor's noise model and lifting to ambient size); the difference to
+// BM_ImuFactorEvaluate is that.
 void BM_ImuFactorWithoutFactorT(benchmark::State& state) {
   std::mt19937 rng(3);
   std::vector<ImuStep> steps(40);
@@ -124,19 +127,25 @@ void BM_ImuFactorWithoutFactorT(benchmark::State& state) {
 }
 BENCHMARK(BM_ImuFactorWithoutFactorT);
 
+template <class Factor>
 void BM_DynamicsFactorEvaluate(benchmark::State& state) {
   std::mt19937 rng(4);
   std::vector<DynamicsStep> steps(40);
   for (auto& s : steps) s = randomDynamicsStep(rng);
   auto pit = std::make_shared<PreintegratedThrust>(
       PreintegratedThrust::integrate(steps, Vec6::Zero(), ThrustNoiseParams()));
-  DynamicsFactorParams params;
-  params.variant = static_cast<DynamicsVariant>(state.range(0));
-  DynamicsFactor f(X(0), V(0), F(0), X(1), V(1), F(1), B(0), pit, params);
+  const DynamicsFactorParams params;
+  std::unique_ptr<Factor> f;
+  if constexpr (std::is_same_v<Factor, HdvioDynamicsFactor>)
+    f = std::make_unique<Factor>(X(0), V(0), F(0), X(1), V(1), F(1), B(0), pit, params);
+  else
+    f = std::make_unique<Factor>(X(0), V(0), F(0), X(1), V(1), B(0), pit, params);
   const Values v = randomStates(rng);
-  runEvaluate(state, f, v);
+  runEvaluate(state, *f, v);
 }
-BENCHMARK(BM_DynamicsFactorEvaluate)->ArgName("variant")->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK_TEMPLATE(BM_DynamicsFactorEvaluate, HdvioDynamicsFactor);
+BENCHMARK_TEMPLATE(BM_DynamicsFactorEvaluate, VimoDynamicsFactor);
+BENCHMARK_TEMPLATE(BM_DynamicsFactorEvaluate, VidDynamicsFactor);
 
 void BM_ReprojectionFactorEvaluate(benchmark::State& state) {
   const auto model = static_cast<DistortionModel>(state.range(0));

@@ -30,6 +30,41 @@ TEST(NoiseModel, DiagonalWhitensResidualAndJacobian) {
   EXPECT_DOUBLE_EQ(J[2], 1.5);
 }
 
+// The block-diagonal model's fixed-size whitening, its dynamic path and core's dense model built
+// from the same covariance agree, and it reports the covariance it was given.
+TEST(NoiseModel, BlockDiagonalMatchesDenseModel) {
+  Eigen::Matrix<double, 4, 4> A;
+  A << 1.0, 0.2, -0.3, 0.1, 0.0, 2.0, 0.5, -0.4, 0.3, 0.1, 1.5, 0.2, -0.2, 0.6, 0.0, 0.8;
+  const Eigen::Matrix<double, 4, 4> dense = A * A.transpose() + 0.1 * Eigen::Matrix4d::Identity();
+  const Eigen::Vector2d variances(0.5, 0.01);
+  const auto block = NoiseModel::blockDiagonal<6, 4>(dense, variances);
+  EXPECT_EQ(block->denseBlock(), 4);
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(6, 6);
+  C.topLeftCorner(4, 4) = dense;
+  C.bottomRightCorner(2, 2) = variances.asDiagonal();
+  EXPECT_EQ(block->covarianceMatrix(), C);
+  const auto reference = NoiseModel::covariance(C);
+  EXPECT_LT((reference->covarianceMatrix() - C).cwiseAbs().maxCoeff(), 1e-12);
+  Eigen::Matrix<double, 6, 1> r0;
+  r0 << 0.3, -1.2, 0.7, 2.0, -0.4, 0.9;
+  Eigen::Matrix<double, 6, 1> r1 = r0, r2 = r0, r3 = r0;
+  block->whitenResidualFixed<6, 4>(r1.data());
+  block->whitenResidual(r2.data());
+  reference->whitenResidual(r3.data());
+  EXPECT_LT((r1 - r3).cwiseAbs().maxCoeff(), 1e-10 * r3.cwiseAbs().maxCoeff());
+  EXPECT_LT((r2 - r3).cwiseAbs().maxCoeff(), 1e-10 * r3.cwiseAbs().maxCoeff());
+  Eigen::Matrix<double, 6, 3, Eigen::RowMajor> J0;
+  for (int i = 0; i < 18; ++i) J0.data()[i] = 0.1 * i - 0.7;
+  Eigen::Matrix<double, 6, 3, Eigen::RowMajor> J1 = J0, J2 = J0, J3 = J0;
+  block->whitenJacobianFixed<6, 4, 3>(J1.data());
+  block->whitenJacobian(J2.data(), 3);
+  reference->whitenJacobian(J3.data(), 3);
+  EXPECT_LT((J1 - J3).cwiseAbs().maxCoeff(), 1e-10 * J3.cwiseAbs().maxCoeff());
+  EXPECT_LT((J2 - J3).cwiseAbs().maxCoeff(), 1e-10 * J3.cwiseAbs().maxCoeff());
+  const Eigen::Matrix<double, 4, 4> indefinite = -dense;
+  EXPECT_THROW((NoiseModel::blockDiagonal<6, 4>(indefinite, variances)), std::invalid_argument);
+}
+
 TEST(NoiseModel, RejectsInvalidSigmas) {
   EXPECT_THROW(NoiseModel::diagonal(Eigen::Vector2d(1.0, 0.0)), std::invalid_argument);
   Eigen::Matrix2d bad;

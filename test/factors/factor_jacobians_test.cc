@@ -3,7 +3,7 @@
 
 #include <random>
 
-#include "hdvio/factors/dynamics_factor.h"
+#include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
 #include "hdvio/factors/prior_factors.h"
 #include "hdvio/factors/relative_position_factor.h"
@@ -13,42 +13,12 @@
 namespace hdvio {
 namespace {
 using namespace symbols;
+using test::randomPose;
+using test::randomStates;
+using test::randomSteps;
 using test::randomVec3;
 
 constexpr int kTrials = 20;
-
-Pose randomPose(std::mt19937& rng) {
-  return Pose(quatExp(randomVec3(rng, 1.5)), randomVec3(rng, 3.0));
-}
-
-// Random measurements, then states near (not at) what they predict, so residuals are moderate
-// and every bias-correction term is active.
-std::vector<DynamicsStep> randomSteps(std::mt19937& rng, int n) {
-  std::vector<DynamicsStep> steps(n);
-  for (auto& s : steps) {
-    s.dt = 0.005;
-    s.gyro = randomVec3(rng, 1.0);
-    s.accel = Vec3(0, 0, 9.81) + randomVec3(rng, 2.0);
-    s.thrust = Vec3(0, 0, 9.0) + randomVec3(rng, 0.5);
-    s.residual_force = randomVec3(rng, 0.3);
-  }
-  return steps;
-}
-
-Values randomStates(std::mt19937& rng, const Mat3& dR) {
-  Values v;
-  const Pose Ti = randomPose(rng);
-  v.insertPose(X(0), Ti);
-  v.insertPose(X(1), Pose(Mat3(Ti.R() * dR * so3Exp(randomVec3(rng, 0.3))), Ti.p + randomVec3(rng, 1.0)));
-  for (int k = 0; k < 2; ++k) {
-    v.insertVector(V(k), randomVec3(rng, 2.0));
-    v.insertVector(F(k), randomVec3(rng, 1.0));
-    Eigen::VectorXd b(6);
-    b << randomVec3(rng, 0.05), randomVec3(rng, 0.2);
-    v.insertVector(B(k), b);
-  }
-  return v;
-}
 
 TEST(FactorJacobians, ImuFactor) {
   std::mt19937 rng(11);
@@ -63,37 +33,13 @@ TEST(FactorJacobians, ImuFactor) {
   }
 }
 
-// The factors' own fixed-size whitening gives the same numbers as core's dense NoiseModel.
-TEST(FixedWhitening, MatchesNoiseModelCovariance) {
-  std::mt19937 rng(14);
-  Eigen::Matrix<double, 9, 9> A;
-  for (int c = 0; c < 9; ++c) A.col(c) << randomVec3(rng, 1.0), randomVec3(rng, 1.0), randomVec3(rng, 1.0);
-  const Eigen::Matrix<double, 9, 9> dense = A * A.transpose() + 0.1 * Eigen::Matrix<double, 9, 9>::Identity();
-  const Vec3 variances(0.5, 2.0, 0.01);
-  const FixedWhitening<12, 9> fixed(dense, variances);
-  const NoiseModelPtr reference = NoiseModel::covariance(fixed.covariance());
-  Eigen::Matrix<double, 12, 1> r1;
-  r1 << randomVec3(rng, 1.0), randomVec3(rng, 1.0), randomVec3(rng, 1.0), randomVec3(rng, 1.0);
-  Eigen::Matrix<double, 12, 1> r2 = r1;
-  fixed.whitenResidual(r1.data());
-  reference->whitenResidual(r2.data());
-  EXPECT_LT((r1 - r2).cwiseAbs().maxCoeff(), 1e-10 * r2.cwiseAbs().maxCoeff());
-  Eigen::Matrix<double, 12, 3, Eigen::RowMajor> J1;
-  for (int row = 0; row < 12; ++row) J1.row(row) = randomVec3(rng, 1.0).transpose();
-  Eigen::Matrix<double, 12, 3, Eigen::RowMajor> J2 = J1;
-  fixed.whitenJacobian<3>(J1.data());
-  reference->whitenJacobian(J2.data(), 3);
-  EXPECT_LT((J1 - J2).cwiseAbs().maxCoeff(), 1e-10 * J2.cwiseAbs().maxCoeff());
-  using Whitening = FixedWhitening<12, 9>;
-  EXPECT_THROW(Whitening(-dense, variances), std::invalid_argument);
-}
-
 TEST(FactorJacobians, BiasBetweenFactor) {
   std::mt19937 rng(12);
   BiasBetweenFactor f(B(0), B(1), 0.1, ImuNoiseParams());
   test::expectJacobiansMatchNumerical(f, randomStates(rng, Mat3::Identity()), 1e-7);
 }
 
+template <class Factor>
 void expectDynamicsJacobiansMatchNumerical(unsigned seed, const DynamicsFactorParams& params) {
   std::mt19937 rng(seed);
   for (int trial = 0; trial < kTrials; ++trial) {
@@ -101,32 +47,31 @@ void expectDynamicsJacobiansMatchNumerical(unsigned seed, const DynamicsFactorPa
     bias << randomVec3(rng, 0.02), randomVec3(rng, 0.1);
     auto pit = std::make_shared<PreintegratedThrust>(
         PreintegratedThrust::integrate(randomSteps(rng, 40), bias, ThrustNoiseParams()));
-    DynamicsFactor f(X(0), V(0), F(0), X(1), V(1), F(1), B(0), pit, params);
-    test::expectJacobiansMatchNumerical(f, randomStates(rng, pit->deltaR()), 1e-6);
+    const auto f = test::makeDynamics<Factor>(pit, params);
+    test::expectJacobiansMatchNumerical(*f, randomStates(rng, pit->deltaR()), 1e-6);
   }
 }
 
-class DynamicsJacobians : public ::testing::TestWithParam<DynamicsVariant> {};
+template <class Factor>
+class DynamicsJacobians : public ::testing::Test {};
+using DynamicsFactorTypes = ::testing::Types<HdvioDynamicsFactor, VimoDynamicsFactor, VidDynamicsFactor>;
+TYPED_TEST_SUITE(DynamicsJacobians, DynamicsFactorTypes);
 
-TEST_P(DynamicsJacobians, MatchNumerical) {
+TYPED_TEST(DynamicsJacobians, MatchNumerical) {
   DynamicsFactorParams params;
-  params.variant = GetParam();
   params.force_random_walk = 0.5;
   params.force_prior_sigma = 2.0;
-  expectDynamicsJacobiansMatchNumerical(13 + static_cast<int>(GetParam()), params);
+  expectDynamicsJacobiansMatchNumerical<TypeParam>(13, params);
 }
 
-TEST(FactorJacobians, DynamicsFactorWithDrag) {
+TYPED_TEST(DynamicsJacobians, MatchNumericalWithDrag) {
   DynamicsFactorParams params;
   params.force_random_walk = 0.5;
+  params.force_prior_sigma = 2.0;
   params.drag.linear = Vec3(0.3, 0.25, 0.05);
   params.drag.quadratic = Vec3(0.02, 0.03, 0.01);
-  expectDynamicsJacobiansMatchNumerical(17, params);
+  expectDynamicsJacobiansMatchNumerical<TypeParam>(17, params);
 }
-
-INSTANTIATE_TEST_SUITE_P(AllVariants, DynamicsJacobians,
-                         ::testing::Values(DynamicsVariant::kHdvio, DynamicsVariant::kVimo,
-                                           DynamicsVariant::kVidFusion));
 
 class ReprojectionJacobians : public ::testing::TestWithParam<DistortionModel> {};
 

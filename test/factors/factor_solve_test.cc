@@ -5,7 +5,7 @@
 #include <random>
 
 #include "hdvio/core/ceres_bridge.h"
-#include "hdvio/factors/dynamics_factor.h"
+#include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
 #include "hdvio/factors/prior_factors.h"
 #include "test_support.h"
@@ -40,7 +40,7 @@ TEST(FactorSolve, ImuAndDynamicsRecoverStatesAndExternalForce) {
     graph.add(std::make_shared<ImuFactor>(X(k), V(k), B(k), X(k + 1), V(k + 1), B(k + 1), pim));
     auto pit = std::make_shared<PreintegratedThrust>(
         PreintegratedThrust::integrate(imu, thrust, ti, tj, Vec6::Zero(), thrust_params));
-    graph.add(std::make_shared<DynamicsFactor>(X(k), V(k), F(k), X(k + 1), V(k + 1), F(k + 1), B(k), pit, dyn));
+    graph.add(std::make_shared<HdvioDynamicsFactor>(X(k), V(k), F(k), X(k + 1), V(k + 1), F(k + 1), B(k), pit, dyn));
   }
   graph.add(std::make_shared<PosePrior>(X(0), Pose(f.R(time(0)), f.p(time(0))), NoiseModel::isotropic(6, 1e-3)));
   graph.add(std::make_shared<VelocityPrior>(V(0), f.v(time(0)), NoiseModel::isotropic(3, 1e-2)));

@@ -4,13 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
+#include <type_traits>
 
 #include "hdvio/core/factor.h"
 #include "hdvio/core/lie.h"
 #include "hdvio/core/numerical_jacobian.h"
 #include "hdvio/core/sequence.h"
 #include "hdvio/core/values.h"
+#include "hdvio/factors/dynamics_factors.h"
 
 namespace hdvio::test {
 
@@ -61,6 +64,52 @@ inline void expectJacobiansMatchNumerical(const Factor& factor, const Values& va
 inline Vec3 randomVec3(std::mt19937& rng, double sigma) {
   std::normal_distribution<double> n(0.0, sigma);
   return Vec3(n(rng), n(rng), n(rng));
+}
+
+inline Pose randomPose(std::mt19937& rng) {
+  return Pose(quatExp(randomVec3(rng, 1.5)), randomVec3(rng, 3.0));
+}
+
+// Random measurements, then states near (not at) what they predict, so residuals are moderate
+// and every bias-correction term is active.
+inline std::vector<DynamicsStep> randomSteps(std::mt19937& rng, int n) {
+  std::vector<DynamicsStep> steps(n);
+  for (auto& s : steps) {
+    s.dt = 0.005;
+    s.gyro = randomVec3(rng, 1.0);
+    s.accel = Vec3(0, 0, 9.81) + randomVec3(rng, 2.0);
+    s.thrust = Vec3(0, 0, 9.0) + randomVec3(rng, 0.5);
+    s.residual_force = randomVec3(rng, 0.3);
+  }
+  return steps;
+}
+
+inline Values randomStates(std::mt19937& rng, const Mat3& dR) {
+  using namespace symbols;
+  Values v;
+  const Pose Ti = randomPose(rng);
+  v.insertPose(X(0), Ti);
+  v.insertPose(X(1), Pose(Mat3(Ti.R() * dR * so3Exp(randomVec3(rng, 0.3))), Ti.p + randomVec3(rng, 1.0)));
+  for (int k = 0; k < 2; ++k) {
+    v.insertVector(V(k), randomVec3(rng, 2.0));
+    v.insertVector(F(k), randomVec3(rng, 1.0));
+    Eigen::VectorXd b(6);
+    b << randomVec3(rng, 0.05), randomVec3(rng, 0.2);
+    v.insertVector(B(k), b);
+  }
+  return v;
+}
+
+// Each dynamics factor with the keys of its model (HDVIO's also has F_j).
+template <class Factor>
+std::unique_ptr<Factor> makeDynamics(std::shared_ptr<const PreintegratedThrust> pit,
+                                     const DynamicsFactorParams& params) {
+  if constexpr (std::is_same_v<Factor, HdvioDynamicsFactor>)
+    return std::make_unique<Factor>(symbols::X(0), symbols::V(0), symbols::F(0), symbols::X(1), symbols::V(1),
+                                     symbols::F(1), symbols::B(0), pit, params);
+  else
+    return std::make_unique<Factor>(symbols::X(0), symbols::V(0), symbols::F(0), symbols::X(1), symbols::V(1),
+                                     symbols::B(0), pit, params);
 }
 
 }  // namespace hdvio::test

@@ -41,7 +41,7 @@ DisplacementRequest requestAt(double t_end) {
 TEST(DragModelSource, DisplacementMatchesFlightsThatObeyTheModel) {
   DragModel model;
   for (const Vec3& drag : {Vec3::Zero().eval(), kDrag}) {
-    model.linear_drag = drag;
+    model.drag.linear = drag;
     const DisplacementSource source =
         makeDragModelSource(modelThrust(drag, 400.0, 2.0), model, 0.0025, Vec3::Constant(0.1),
                             gravityWorld(), false);
@@ -62,9 +62,19 @@ TEST(DragModelSource, DisplacementMatchesFlightsThatObeyTheModel) {
   }
 }
 
+// The source integrates a model linear in v: a drag law with a quadratic term is refused.
+TEST(DragModelSource, RejectsQuadraticDrag) {
+  DragModel model;
+  model.drag.linear = kDrag;
+  model.drag.quadratic = Vec3(0.0, 0.01, 0.0);
+  EXPECT_THROW(makeDragModelSource(modelThrust(kDrag, 400.0, 2.0), model, 0.0025, Vec3::Constant(0.1),
+                                   gravityWorld(), false),
+               std::invalid_argument);
+}
+
 TEST(DragModelSource, VelocityAndAttitudeJacobiansMatchFiniteDifferences) {
   DragModel model;
-  model.linear_drag = kDrag;
+  model.drag.linear = kDrag;
   model.thrust_scale = 1.05;
   const DisplacementSource source = makeDragModelSource(
       modelThrust(kDrag, 400.0, 2.0), model, 0.005, Vec3::Constant(0.1), gravityWorld(), true);
@@ -102,20 +112,20 @@ TEST(DragModelSource, VelocityAndAttitudeJacobiansMatchFiniteDifferences) {
 TEST(DragFit, RecoversThrustScaleAndDrag) {
   std::mt19937 rng(5);
   std::normal_distribution<double> n(0.0, 1.0);
-  const DragModel truth{0.93, Vec3(0.3, 0.42, 0.12)};
+  const DragModel truth{0.93, DragLaw{Vec3(0.3, 0.42, 0.12), Vec3::Zero()}};
   std::vector<DragSample> samples;
   for (int k = 0; k < 5000; ++k) {
     DragSample s;
     s.R = so3Exp(Vec3(0.3 * n(rng), 0.3 * n(rng), 3.0 * n(rng)));
     s.velocity_body = Vec3(3.0 * n(rng), 3.0 * n(rng), 1.0 * n(rng));
     s.thrust = Vec3(0.0, 0.0, 10.0 + 2.0 * n(rng));
-    s.specific_force = truth.thrust_scale * s.thrust - truth.linear_drag.cwiseProduct(s.velocity_body) +
+    s.specific_force = truth.thrust_scale * s.thrust - truth.drag.linear.cwiseProduct(s.velocity_body) +
                        0.3 * Vec3(n(rng), n(rng), n(rng));  // vibration
     samples.push_back(s);
   }
   const DragFit fit = fitDragModel(samples, true);
   EXPECT_NEAR(fit.model.thrust_scale, truth.thrust_scale, 2e-3);
-  EXPECT_LT((fit.model.linear_drag - truth.linear_drag).norm(), 1e-2) << fit.model.linear_drag.transpose();
+  EXPECT_LT((fit.model.drag.linear - truth.drag.linear).norm(), 1e-2) << fit.model.drag.linear.transpose();
   EXPECT_LT(fit.rms_fitted.maxCoeff(), 0.33);
   EXPECT_GT(fit.rms_thrust_only.minCoeff(), 0.5);  // the thrust-only model misses drag and scale
   EXPECT_THROW(fitDragModel(std::vector<DragSample>(50), true), InputError);

@@ -35,10 +35,10 @@ class InertialPipeline : public MethodPipeline {
       m.readInRange("integration_step_s", &model_step_s_, 1e-4, 0.1);
       m.readInRange("window_s", &options_.window_s, 0.05, 5.0);
       m.readInRange("thrust_scale", &drag_model_.thrust_scale, 0.1, 10.0);
-      drag_model_.linear_drag = readVec3(m, "linear_drag", drag_model_.linear_drag);
+      drag_model_.drag.linear = readVec3(m, "linear_drag", drag_model_.drag.linear);
       m.readOptional("attitude_jacobian", &model_attitude_jacobian_);
       m.finish();
-      if ((drag_model_.linear_drag.array() < 0.0).any())
+      if ((drag_model_.drag.linear.array() < 0.0).any())
         throw InputError(file.path, 0, "model.linear_drag must be >= 0");
     } else {
       std::string weights;

@@ -4,12 +4,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <random>
 
 #include <gflags/gflags.h>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/thread_clock.h"
 #include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/learned/displacement_model.h"
@@ -23,12 +23,7 @@ namespace {
 using namespace hdvio;
 using namespace hdvio::learned;
 
-// CPU time of this thread: on a shared machine wall time also counts other processes.
-double threadCpuMicros() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e6 + ts.tv_nsec * 1e-3;
-}
+double threadCpuMicros() { return 1e6 * hdvio::threadCpuSeconds(); }
 
 DisplacementModel randomModel() {
   std::mt19937 rng(1);

@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <iostream>
 #include <random>
-#include <ctime>
 
 #include <gflags/gflags.h>
 
 #include "hdvio/core/error.h"
+#include "hdvio/core/thread_clock.h"
 #include "hdvio/core/tool_flags.h"
 #include "hdvio/learned/tcn_weight_file.h"
 
@@ -16,12 +16,7 @@ DEFINE_string(weights, "", "TCN weight file (empty: the paper architecture with 
 DEFINE_int32(windows, 20000, "windows to time");
 
 namespace {
-// CPU time of this thread: on a shared machine wall time also counts other processes.
-double threadCpuMicros() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e6 + ts.tv_nsec * 1e-3;
-}
+double threadCpuMicros() { return 1e6 * hdvio::threadCpuSeconds(); }
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -33,7 +33,7 @@ std::vector<DragSample> collectDragSamples(const Sequence& seq, const std::vecto
 namespace {
 
 Vec3 modelForce(const DragModel& m, const DragSample& s) {
-  return m.thrust_scale * s.thrust - m.linear_drag.cwiseProduct(s.velocity_body);
+  return m.thrust_scale * s.thrust - m.drag.linear.cwiseProduct(s.velocity_body);
 }
 
 void residualStats(const std::vector<DragSample>& samples, const DragModel& m, Vec3* mean, Vec3* rms) {
@@ -72,13 +72,13 @@ DragFit fitDragModel(const std::vector<DragSample>& samples, bool fit_thrust_sca
   DragFit fit;
   fit.samples = samples.size();
   fit.model.thrust_scale = fit_thrust_scale ? x(0) : 1.0;
-  fit.model.linear_drag = x.tail<3>();
+  fit.model.drag.linear = x.tail<3>();
   residualStats(samples, DragModel{}, &fit.mean_thrust_only, &fit.rms_thrust_only);
   residualStats(samples, fit.model, &fit.mean_fitted, &fit.rms_fitted);
   return fit;
 }
 
-DragLawFit fitDragLaw(const std::vector<DragSample>& samples, double thrust_scale) {
+DragLawFit fitDragLawOnSamples(const std::vector<DragSample>& samples, double thrust_scale) {
   if (samples.size() < 100)
     throw InputError("", 0, "drag fit: fewer than 100 samples with thrust and ground truth");
   std::vector<Vec3> u, f;
@@ -124,6 +124,8 @@ DisplacementSource makeDragModelSource(std::vector<ThrustSample> thrust, const D
                                        double step_s, const Vec3& sigma, const Vec3& gravity,
                                        bool attitude_jacobian) {
   if (!(step_s > 0.0)) throw std::invalid_argument("makeDragModelSource: step must be > 0");
+  if (!model.drag.quadratic.isZero(0.0))
+    throw std::invalid_argument("makeDragModelSource: the Model-EKF takes linear drag only");
   auto samples = std::make_shared<const std::vector<ThrustSample>>(std::move(thrust));
   const Mat3 cov = sigma.cwiseAbs2().asDiagonal();
   return [samples, model, step_s, cov, gravity, attitude_jacobian](const DisplacementRequest& r)
@@ -142,7 +144,7 @@ DisplacementSource makeDragModelSource(std::vector<ThrustSample> thrust, const D
     }
     DisplacementEstimate est;
     est.covariance = cov;
-    integrateModel(R, kT, model.linear_drag, Mat3::Identity(), h, gravity, &est.velocity_matrix, &est.z);
+    integrateModel(R, kT, model.drag.linear, Mat3::Identity(), h, gravity, &est.velocity_matrix, &est.z);
     if (attitude_jacobian) {
       // R(t) = R_i Gamma(t): R_i Exp(dtheta) Gamma = Exp(R_i dtheta) R(t), so differentiate the
       // prediction C v_i + d for a left (world) rotation w and chain with dw/dtheta = R_i.
@@ -155,7 +157,7 @@ DisplacementSource makeDragModelSource(std::vector<ThrustSample> thrust, const D
           Mat3 C;
           Vec3 d;
           const Vec3 w = (sgn == 0 ? kEps : -kEps) * Vec3::Unit(k);
-          integrateModel(R, kT, model.linear_drag, so3Exp(w), h, gravity, &C, &d);
+          integrateModel(R, kT, model.drag.linear, so3Exp(w), h, gravity, &C, &d);
           predicted[sgn] = C * r.velocity_begin + d;
         }
         J_world.col(k) = (predicted[0] - predicted[1]) / (2.0 * kEps);

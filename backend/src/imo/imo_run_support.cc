@@ -1,7 +1,6 @@
 #include "hdvio/backend/imo/imo_run_support.h"
 
 #include <algorithm>
-#include <ctime>
 #include <iterator>
 
 namespace hdvio::imo {
@@ -29,12 +28,6 @@ NavState navFrom(const ImoNominalState& x) {
 ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, Timestamp t) {
   const double s = secondsBetween(a.t, t) / secondsBetween(a.t, b.t);
   return {t, (1.0 - s) * a.gyro + s * b.gyro, (1.0 - s) * a.accel + s * b.accel};
-}
-
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 void RotationHistory::add(Timestamp t, const Quat& q) {

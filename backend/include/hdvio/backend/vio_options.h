@@ -5,7 +5,7 @@
 
 #include "hdvio/backend/adaptive_force_walk.h"
 #include "hdvio/core/config.h"
-#include "hdvio/factors/dynamics_factor.h"
+#include "hdvio/factors/point_mass_dynamics.h"
 #include "hdvio/factors/imu_preintegration.h"
 #include "hdvio/factors/reprojection_factor.h"
 #include "hdvio/factors/thrust_preintegration.h"
@@ -58,7 +58,7 @@ struct VioBackendOptions {
 
   ImuNoiseParams imu;
   ThrustNoiseParams thrust;
-  DynamicsFactorParams dynamics;  // variant follows method
+  DynamicsFactorParams dynamics;  // the factor class follows method
   // hdvio: adapt the force walk to the accelerometer's evidence (adaptive_force_walk.h);
   // dynamics.force_random_walk is then its floor.
   AdaptiveForceWalkOptions force_walk_adaptive;

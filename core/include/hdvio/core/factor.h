@@ -7,6 +7,7 @@
 // Nothing is mutated inside Evaluate; a factor is immutable once built.
 #include <array>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include <Eigen/Core>
@@ -57,16 +58,24 @@ using FactorPtr = std::shared_ptr<const Factor>;
 //   bool evaluateError(const double* const* x, double* residual, double** tangent_jacobians) const;
 // where x[i] is variable i's ambient parameter block, residual has kDim entries, and
 // tangent_jacobians[i] (null if not wanted) is row-major kDim x Vars_i::kTangent.
+// A factor whose noise is always block diagonal (NoiseModel::blockDiagonal) declares
+//   static constexpr int kNoiseDenseBlock = K;
+// and is then whitened with compile-time sizes; its constructor checks the model's shape.
 template <class Derived, int kDim, class... Vars>
 class FactorT : public Factor {
  public:
   static constexpr int kNumVars = sizeof...(Vars);
   static constexpr std::array<int, kNumVars> kTangent{Vars::kTangent...};
   static constexpr std::array<int, kNumVars> kAmbient{Vars::kAmbient...};
+  static constexpr int kNoiseDenseBlock = 0;  // 0: whiten through NoiseModel's dynamic path
 
   FactorT(const std::array<Key, kNumVars>& keys, NoiseModelPtr noise)
       : Factor(std::vector<Key>(keys.begin(), keys.end()), std::move(noise)),
-        cost_(std::make_unique<Cost>(this)) {}
+        cost_(std::make_unique<Cost>(this)) {
+    constexpr int kBlock = Derived::kNoiseDenseBlock;
+    if (kBlock > 0 && (noiseModel().dim() != kDim || noiseModel().denseBlock() != kBlock))
+      throw std::logic_error("FactorT: noise model is not the block-diagonal shape the factor declares");
+  }
 
   ceres::CostFunction* costFunction() const override { return cost_.get(); }
 
@@ -88,7 +97,10 @@ class FactorT : public Factor {
       }
       if (!derived.evaluateError(x, residual, jacobians ? tangent.data() : nullptr)) return false;
       const NoiseModel& noise = factor_->noiseModel();
-      noise.whitenResidual(residual);
+      if constexpr (Derived::kNoiseDenseBlock > 0)
+        noise.whitenResidualFixed<kDim, Derived::kNoiseDenseBlock>(residual);
+      else
+        noise.whitenResidual(residual);
       if (!jacobians) return true;
       liftAll(x, jacobians, tangent.data(), std::index_sequence_for<Vars...>{});
       return true;
@@ -103,7 +115,11 @@ class FactorT : public Factor {
     template <class Var>
     void lift(const double* x, double* ambient_jacobian, double* tangent_jacobian) const {
       if (!ambient_jacobian) return;
-      factor_->noiseModel().whitenJacobian(tangent_jacobian, Var::kTangent);
+      if constexpr (Derived::kNoiseDenseBlock > 0)
+        factor_->noiseModel().template whitenJacobianFixed<kDim, Derived::kNoiseDenseBlock, Var::kTangent>(
+            tangent_jacobian);
+      else
+        factor_->noiseModel().whitenJacobian(tangent_jacobian, Var::kTangent);
       using TangentJ = Eigen::Matrix<double, kDim, Var::kTangent, Eigen::RowMajor>;
       using AmbientJ = Eigen::Matrix<double, kDim, Var::kAmbient, Eigen::RowMajor>;
       Eigen::Map<const TangentJ> Jt(tangent_jacobian);

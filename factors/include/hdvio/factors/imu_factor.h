@@ -6,13 +6,12 @@
 //   r_p  = R_i^T (p_j - p_i - v_i dt - 1/2 g dt^2) - (dp + dp_dbg dbg + dp_dba dba)
 //   r_b  = b_j - b_i
 // with db = b_i - (preintegration bias). Covariance: blockdiag(preintegrated 9x9,
-// sigma_bg_rw^2 dt I, sigma_ba_rw^2 dt I); the factor whitens itself (fixed_whitening.h), so
-// its noiseModel() is the unit one and covariance() is the real one. BiasBetweenFactor is the random walk on its own,
-// for graphs that integrate the IMU elsewhere.
+// sigma_bg_rw^2 dt I, sigma_ba_rw^2 dt I): noiseModel() is that block-diagonal model, whitened
+// with fixed sizes (kNoiseDenseBlock). BiasBetweenFactor is the random walk on its own, for
+// graphs that integrate the IMU elsewhere.
 #include <memory>
 
 #include "hdvio/core/factor.h"
-#include "hdvio/factors/fixed_whitening.h"
 #include "hdvio/factors/imu_preintegration.h"
 
 namespace hdvio {
@@ -20,17 +19,16 @@ namespace hdvio {
 class ImuFactor final : public FactorT<ImuFactor, 15, PoseVar, Vec3Var, BiasVar, PoseVar, Vec3Var,
                                        BiasVar> {
  public:
+  static constexpr int kNoiseDenseBlock = 9;
   ImuFactor(Key pose_i, Key vel_i, Key bias_i, Key pose_j, Key vel_j, Key bias_j,
             std::shared_ptr<const PreintegratedImu> pim);
 
   bool evaluateError(const double* const* x, double* residual, double** jacobians) const;
   const PreintegratedImu& preintegrated() const { return *pim_; }
-  const Eigen::Matrix<double, 15, 15>& covariance() const { return whitening_.covariance(); }
-  static Eigen::Matrix<double, 15, 15> covarianceFor(const PreintegratedImu& pim);
+  static NoiseModelPtr noiseFor(const PreintegratedImu& pim);
 
  private:
   std::shared_ptr<const PreintegratedImu> pim_;
-  FixedWhitening<15, 9> whitening_;
 };
 
 class BiasBetweenFactor final : public FactorT<BiasBetweenFactor, 6, BiasVar, BiasVar> {

@@ -14,9 +14,11 @@
 
 namespace hdvio::imo {
 
+// The drag is the project's one drag law type (core/drag_law.h) with only its linear term: the
+// Model-EKF's displacement is linear in the velocity (makeDragModelSource rejects a quadratic).
 struct DragModel {
-  double thrust_scale = 1.0;          // k
-  Vec3 linear_drag = Vec3::Zero();    // d (1/s), body axes
+  double thrust_scale = 1.0;  // k
+  DragLaw drag;               // drag.linear = d (1/s), body axes; drag.quadratic = 0
 };
 
 // One training sample: specific force and thrust (body), ground-truth body velocity and attitude.
@@ -44,14 +46,14 @@ struct DragFit {
 // Throws InputError with fewer than 100 samples.
 DragFit fitDragModel(const std::vector<DragSample>& samples, bool fit_thrust_scale);
 
-// For the hybrid dynamics of the visual methods (backend.drag_linear / drag_quadratic): the
-// drag law f = k T - D u - C |u| u (core/drag_law.h, u = body velocity) with the thrust scale
-// k held fixed, fitted per axis by non-negative least squares. rms: world-frame residual per axis.
+// For the hybrid dynamics of the visual methods (backend.drag_linear / drag_quadratic): the full
+// drag law f - k T = -(D u + C |u| u) (u = body velocity) with the thrust scale k held fixed,
+// fitted by core's fitDragLaw on the samples. rms: world-frame residual per axis.
 struct DragLawFit {
   DragLaw law;
   Vec3 rms = Vec3::Zero();
 };
-DragLawFit fitDragLaw(const std::vector<DragSample>& samples, double thrust_scale);
+DragLawFit fitDragLawOnSamples(const std::vector<DragSample>& samples, double thrust_scale);
 
 // The Model-EKF measurement of the drag model. Over the window, from the begin clone,
 //   p_end - p_begin = C v_begin + d,

@@ -1,7 +1,8 @@
 #pragma once
 // What the IMU-driven runners (imo_runner: imo/tlio/model_ekf/net_only, gate_io_runner) share:
 // conversions between the filter's nominal state and NavState, IMU interpolation at split
-// times, the gyro-integrated rotation history for network windows, and the thread CPU clock.
+// times and the gyro-integrated rotation history for network windows (their CPU clock is
+// core/thread_clock.h).
 #include <deque>
 #include <utility>
 
@@ -10,6 +11,7 @@
 #include "hdvio/backend/imo/imo_propagation.h"
 #include "hdvio/backend/nav_state.h"
 #include "hdvio/core/sequence.h"
+#include "hdvio/core/thread_clock.h"
 
 namespace hdvio::imo {
 
@@ -18,10 +20,6 @@ NavState navFrom(const ImoNominalState& x);
 
 // Linear interpolation of gyro and accel between two samples at a ≤ t ≤ b.
 ImuSample interpolateImu(const ImuSample& a, const ImuSample& b, Timestamp t);
-
-// This thread's CPU time, s. Reading it is a system call (~1.4 us on the benchmark VM, more than
-// an IMU step), so callers read it around whole runs and updates, never per IMU step.
-double threadCpuSeconds();
 
 // Rotations at the times the filter passed through, for the network windows; slerp between.
 class RotationHistory {
