@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "../common/file_text.h"
 #include "../common/run_command.h"
 #include "hdvio/core/config.h"
 #include "hdvio/io/asl.h"
@@ -24,12 +25,7 @@ namespace hdvio {
 namespace {
 namespace fs = std::filesystem;
 
-std::string readFile(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using test::readFile;
 
 // Every result file but the measured times, by path relative to dir.
 std::vector<fs::path> resultFiles(const fs::path& dir) {

@@ -10,7 +10,8 @@
 #include <optional>
 
 #include "hdvio/backend/imo/gate_io_runner.h"
-#include "hdvio/backend/vio_runner.h"
+#include "hdvio/pipeline/displacement_network_source.h"
+#include "hdvio/core/sequence.h"
 #include "hdvio/core/error.h"
 #include "hdvio/io/gate_corners.h"
 #include "hdvio/learned/displacement_model.h"
@@ -111,7 +112,10 @@ class GateIoPipeline : public MethodPipeline {
   // The displacement network as in the imo method (empty source without a network).
   imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust) const {
     if (!model_) return {};
-    return makeNetworkDisplacementSource(model_, seq, thrust);
+    // The sequence outlives the run: its IMU is shared without a copy.
+    const std::shared_ptr<const std::vector<ImuSample>> imu(std::shared_ptr<void>(), &seq.imu);
+    return networkDisplacementSource(model_, imu,
+                                     std::make_shared<const std::vector<ThrustSample>>(thrust));
   }
 
   ExperimentFile file_;

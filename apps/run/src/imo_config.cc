@@ -57,27 +57,6 @@ std::shared_ptr<const learned::DisplacementModel> loadDisplacementNetwork(
   return std::make_shared<const learned::DisplacementModel>(learned::DisplacementModel::load(path));
 }
 
-imo::DisplacementSource makeNetworkDisplacementSource(
-    std::shared_ptr<const learned::DisplacementModel> model, const Sequence& seq,
-    std::vector<ThrustSample> thrust) {
-  const bool use_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
-  const Timestamp w = model->windowDuration();
-  auto covered = [w](const auto& stream, Timestamp t_end) {
-    return !stream.empty() && stream.front().t <= t_end - w && stream.back().t >= t_end;
-  };
-  return [model, &seq, thrust = std::move(thrust), use_thrust, covered](
-             const imo::DisplacementRequest& r) -> std::optional<imo::DisplacementEstimate> {
-    if (!covered(seq.imu, r.t_end) || (use_thrust && !covered(thrust, r.t_end))) return std::nullopt;
-    const learned::MatrixXf window = learned::makeDisplacementWindow(
-        *model, seq.imu, thrust, r.t_end, r.world_from_body, r.gyro_bias, r.accel_bias);
-    const learned::DisplacementPrediction p = model->predict(window);
-    imo::DisplacementEstimate e;
-    e.z = p.displacement;
-    e.covariance = p.covariance;
-    return e;
-  };
-}
-
 std::vector<ImuSample> imuSpanWithGroundTruth(const Sequence& seq, double start_offset_s,
                                               double duration_s) {
   if (seq.groundtruth.empty()) throw InputError(seq.source, 0, "the sequence has no ground truth");
