@@ -1,7 +1,7 @@
 // The IMO filter family on the real IMU of the Blackbird validation flight: the filter with
 // true displacements tracks the ground truth, and the streaming InertialEstimator (IMU and
-// thrust fed sample by sample, windows waiting for the thrust up to their end) gives exactly the
-// states of the whole-flight run (imo::runImoFilter / runNetworkOnly) for the Model-EKF and the
+// thrust fed sample by sample, the thrust 30 ms late; windows wait for the thrust up to their
+// end) gives exactly the states of the whole-flight run (imo::runImoFilter / runNetworkOnly) for the Model-EKF and the
 // shipped imo network.
 #include <gtest/gtest.h>
 
@@ -67,8 +67,9 @@ TEST(ImoFilterRun, FilterOnRealImuWithTrueDisplacementsTracksGroundTruth) {
   EXPECT_LT(max_rot * 180.0 / M_PI, 5.0);
 }
 
-// Feeds the whole sequence as a live program would: the thrust up to each IMU sample, then the
-// sample; the filter starts at the span's first sample and stops after its last.
+// Feeds the whole sequence as a live program would, with the thrust arriving 30 ms late (a
+// rotor-speed message behind the IMU): before each IMU sample the thrust up to 30 ms before it;
+// the filter starts at the span's first sample and stops after its last.
 std::vector<NavState> streamed(const Sequence& seq, const std::vector<ThrustSample>& thrust,
                                const std::vector<ImuSample>& imu, const NavState& init,
                                const InertialEstimatorOptions& options,
@@ -76,8 +77,9 @@ std::vector<NavState> streamed(const Sequence& seq, const std::vector<ThrustSamp
   InertialEstimator est(options, source);
   est.stopAfter(imu.back().t);
   std::size_t j = 0;
+  const Timestamp latency = fromSeconds(0.03);
   for (const ImuSample& s : seq.imu) {
-    while (j < thrust.size() && thrust[j].t <= s.t) est.addThrust(thrust[j++]);
+    while (j < thrust.size() && thrust[j].t <= s.t - latency) est.addThrust(thrust[j++]);
     est.addImu(s);
     if (s.t == init.t) est.initialize(init);
   }
