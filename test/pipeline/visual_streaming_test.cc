@@ -15,14 +15,13 @@
 #include <unistd.h>
 
 #include "../common/file_text.h"
+#include "../common/rendered_flight.h"
 #include "../common/run_command.h"
 #include "hdvio/backend/vio_options.h"
 #include "hdvio/core/config.h"
-#include "hdvio/io/asl.h"
 #include "hdvio/io/image.h"
 #include "hdvio/io/sequence_reader.h"
 #include "hdvio/pipeline/visual_estimator.h"
-#include "hdvio/sim/simulator.h"
 
 namespace hdvio {
 namespace {
@@ -125,21 +124,14 @@ TEST(VisualStreaming, EurocExcerptSampleBySampleMatchesHdvioRunByteForByte) {
 // before the frontend and the smoother take over (the flight of the determinism test).
 TEST(VisualStreaming, RenderedMovingStartSampleBySampleMatchesHdvioRunByteForByte) {
   const fs::path dir = fs::temp_directory_path() / ("hdvio_streaming_flight_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  const sim::Simulator simulator(sim::loadSimConfig(ConfigReader::fromFile(
-      std::string(HDVIO_SOURCE_DIR) + "/config/sim/ci_images_moving.yaml")));
-  sim::SimulationResult flight = simulator.simulate();
-  simulator.renderImages(&flight, (dir / "rendered").string());
-  flight.sequence.landmark_observations.clear();  // images only
-  io::writeAsl(flight.sequence, (dir / "seq").string());
-  fs::remove_all(dir / "rendered");
+  const fs::path seq = test::writeRenderedFlight("config/sim/ci_images_moving.yaml", dir);
   const fs::path config = dir / "vimo_images.yaml";  // 320x240 needs a finer detector grid
   std::ofstream(config) << "method: vimo\n"
                            "frontend: {source: images, detector: {cell_size: 16}}\n";
   VisualEstimatorOptions options;
   options.backend = defaultVioBackendOptions(VioMethod::kVimo);
   options.frontend.options.detector.cell_size = 16;
-  expectStreamingMatchesHdvioRun((dir / "seq").string(), config.string(), options,
+  expectStreamingMatchesHdvioRun(seq.string(), config.string(), options,
                                  StartKind::kVisualInertial);
   fs::remove_all(dir);
 }
