@@ -7,6 +7,7 @@
 #   frontend/ (hdvio_frontend) core, frontend, OpenCV
 #   learned/  (hdvio_learned)  core, learned, libtorch (trainers behind HDVIO_WITH_TORCH)
 #   backend/  (hdvio_backend)  core, factors, backend   (never learned/: std::function seams)
+#   backend/pipeline/ (hdvio_pipeline) core, io, factors, frontend, learned, backend, pipeline, OpenCV
 #   apps/, test/               everything
 # A project header is "hdvio/<layer>/..."; OpenCV is <opencv2/...>, HDF5 <H5*.h>/<hdf5*.h>,
 # libtorch <torch/...>. Usage: scripts/check_layering.sh [source-root]   (default: the repo)
@@ -19,11 +20,13 @@ declare -A allowed=(
   [frontend]="core frontend opencv"
   [learned]="core learned torch"
   [backend]="core factors backend"
+  [pipeline]="core io factors frontend learned backend pipeline opencv"
 )
 layer_of() {  # path relative to root -> layer name, empty if not layered
   case "$1" in
     core/io/*) echo io ;;
     core/*) echo core ;;
+    backend/pipeline/*) echo pipeline ;;
     factors/*|frontend/*|learned/*|backend/*) echo "${1%%/*}" ;;
     *) echo "" ;;
   esac

@@ -114,6 +114,12 @@ NavState VioBackend::latestState() const {
   return s;
 }
 
+std::optional<Vec3> VioBackend::landmarkPosition(int landmark_id) const {
+  const Values& est = smoother_.estimate();
+  if (!est.exists(L(landmark_id))) return std::nullopt;
+  return est.vec3(L(landmark_id));
+}
+
 std::vector<NavState> VioBackend::windowStates() const {
   std::vector<NavState> out;
   for (const auto& slot : states_) out.push_back(stateAt(slot.index, slot.t));

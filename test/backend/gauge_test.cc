@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "hdvio/backend/schur_marginalization.h"
-#include "hdvio/backend/vio_runner.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/core/config.h"
 #include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"

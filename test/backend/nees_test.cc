@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "hdvio/backend/schur_marginalization.h"
-#include "hdvio/backend/vio_runner.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/core/config.h"
 #include "hdvio/sim/simulator.h"
 

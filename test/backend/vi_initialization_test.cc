@@ -15,8 +15,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
-#include "hdvio/backend/vio_runner.h"
-#include "hdvio/backend/vio_starter.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
+#include "hdvio/pipeline/visual_start.h"
 #include "hdvio/core/config.h"
 #include "hdvio/io/image.h"
 #include "hdvio/io/sequence_reader.h"
@@ -253,7 +253,8 @@ struct StarterOutcome {
 };
 StarterOutcome runStarter(const Sequence& seq, const VioRunOptions& run,
                           const std::vector<FrameObservations>& frames) {
-  VioStarter starter(seq, run, imuParams(seq));
+  VioStarter starter(*seq.camera, seq.imu, run, imuParams(seq),
+                     [&seq](Timestamp t) { return groundTruthState(seq, t); });
   for (const auto& f : frames)
     if (starter.addFrame(f)) {
       EXPECT_TRUE(starter.started());

@@ -1,7 +1,7 @@
 // The visual-inertial backends on simulated flights with ground-truth landmark tracks (no
 // frontend): accuracy against the simulator's truth, external-force estimation, and the
 // unobservable directions of the marginalization prior.
-#include "hdvio/backend/vio_runner.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
 
 #include <gtest/gtest.h>
 

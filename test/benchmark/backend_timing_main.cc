@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "hdvio/backend/vio_runner.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
 #include "hdvio/core/tool_main.h"

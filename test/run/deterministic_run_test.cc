@@ -15,21 +15,16 @@
 
 #include <unistd.h>
 
+#include "../common/file_text.h"
+#include "../common/rendered_flight.h"
 #include "../common/run_command.h"
 #include "hdvio/core/config.h"
-#include "hdvio/io/asl.h"
-#include "hdvio/sim/simulator.h"
 
 namespace hdvio {
 namespace {
 namespace fs = std::filesystem;
 
-std::string readFile(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using test::readFile;
 
 // Every result file but the measured times, by path relative to dir.
 std::vector<fs::path> resultFiles(const fs::path& dir) {
@@ -110,21 +105,14 @@ TEST(DeterministicRun, EurocExcerptOnImagesIsByteIdenticalUnderLoad) {
 // before the frontend and the smoother take over.
 TEST(DeterministicRun, RenderedFlightWithVisualInertialStartIsByteIdenticalUnderLoad) {
   const fs::path dir = fs::temp_directory_path() / ("hdvio_deterministic_flight_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  const sim::Simulator simulator(sim::loadSimConfig(ConfigReader::fromFile(
-      std::string(HDVIO_SOURCE_DIR) + "/config/sim/ci_images_moving.yaml")));
-  sim::SimulationResult flight = simulator.simulate();
-  simulator.renderImages(&flight, (dir / "rendered").string());
-  flight.sequence.landmark_observations.clear();  // images only
-  io::writeAsl(flight.sequence, (dir / "seq").string());
-  fs::remove_all(dir / "rendered");
+  const fs::path seq = test::writeRenderedFlight("config/sim/ci_images_moving.yaml", dir);
   // The experiment of the image pipeline tests: 320x240 needs a finer detector grid.
   const fs::path config = dir / "vio_images.yaml";
   std::ofstream(config) << "method: vio\n"
                            "run: {init_from_groundtruth: false}\n"
                            "frontend: {source: images, backend_pose_prior: true, backend_feedback: true,\n"
                            "           detector: {cell_size: 16}}\n";
-  const Runs r = runTwice(config.string(), (dir / "seq").string(), "sim");
+  const Runs r = runTwice(config.string(), seq.string(), "sim");
   ASSERT_EQ(r.quiet.exit_code, 0) << r.quiet.output;
   ASSERT_EQ(r.busy.exit_code, 0) << r.busy.output;
   ASSERT_NE(r.quiet.output.find("visual-inertial"), std::string::npos) << r.quiet.output;

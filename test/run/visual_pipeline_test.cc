@@ -15,11 +15,11 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "../common/run_command.h"
-#include "hdvio/backend/vio_runner.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/core/config.h"
 #include "hdvio/eval/alignment.h"
 #include "hdvio/io/asl.h"
-#include "hdvio/run/visual_image_runner.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/sim/simulator.h"
 
 namespace hdvio {
@@ -90,8 +90,8 @@ StartErrors startErrors(const Sequence& seq, const std::vector<NavState>& states
   return e;
 }
 
-run::VisualFrontendConfig smallImageFrontend() {
-  run::VisualFrontendConfig c;
+VisualFrontendConfig smallImageFrontend() {
+  VisualFrontendConfig c;
   c.options.detector.cell_size = 16;  // 320x240: the default 32 px grid leaves too few corners
   return c;
 }
@@ -133,7 +133,7 @@ Sequence* VisualPipeline::sequence_ = nullptr;
 TEST_F(VisualPipeline, VioOnRenderedImagesFollowsGroundTruth) {
   VioRunOptions run;
   run.init_from_groundtruth = true;
-  const auto out = run::runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio), run,
+  const auto out = runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio), run,
                                        smallImageFrontend(), nullptr, /*log=*/false);
   ASSERT_EQ(out.images.size(), sequence_->images.size());
   EXPECT_GE(out.vio.states.size(), sequence_->images.size() - 1);
@@ -148,7 +148,7 @@ TEST_F(VisualPipeline, VioOnRenderedImagesFollowsGroundTruth) {
 TEST_F(VisualPipeline, VimoOnRenderedImagesFollowsGroundTruth) {
   VioRunOptions run;
   run.init_from_groundtruth = true;
-  const auto out = run::runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVimo),
+  const auto out = runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVimo),
                                        run, smallImageFrontend(), nullptr, /*log=*/false);
   const PositionError e = positionError(*sequence_, out.vio.states);
   EXPECT_LT(e.rms, 0.05);
@@ -172,7 +172,7 @@ TEST_F(VisualPipeline, CoveredCameraFallsBackToImuAndRecovers) {
   ASSERT_GT(covered, 5);
   VioRunOptions run;
   run.init_from_groundtruth = true;
-  const auto out = run::runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio), run,
+  const auto out = runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio), run,
                                        smallImageFrontend(), nullptr, /*log=*/false);
   EXPECT_GE(out.lost_images, covered);
   EXPECT_LE(out.lost_images, covered + 4);
@@ -223,7 +223,7 @@ TEST_F(VisualPipeline, MissingImagesAreClearErrors) {
 TEST_F(VisualPipeline, DefaultStartOnImagesIsVisualInertial) {
   // ci_images ramps up from rest over its first second, with yaw oscillating: the IMU is not
   // still, so the default start waits for the visual-inertial initialization on KLT tracks.
-  const auto out = run::runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio),
+  const auto out = runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio),
                                        VioRunOptions(), smallImageFrontend(), nullptr,
                                        /*log=*/false);
   ASSERT_EQ(out.vio.start, StartKind::kVisualInertial) << out.vio.vi_init.reason;
@@ -263,7 +263,7 @@ fs::path VisualInertialStartOnImages::dir_;
 Sequence* VisualInertialStartOnImages::sequence_ = nullptr;
 
 TEST_F(VisualInertialStartOnImages, MovingStartIsMetricAndGravityAligned) {
-  const auto out = run::runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio),
+  const auto out = runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio),
                                        VioRunOptions(), smallImageFrontend(), nullptr,
                                        /*log=*/false);
   ASSERT_EQ(out.vio.start, StartKind::kVisualInertial) << out.vio.vi_init.reason;
@@ -289,7 +289,7 @@ TEST_F(VisualInertialStartOnImages, MovingStartIsMetricAndGravityAligned) {
   // What the VI start buys: the static start (zero velocity) on the same flight, same bounds.
   VioRunOptions static_start;
   static_start.visual_inertial_init = false;
-  const auto guess = run::runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio),
+  const auto guess = runVioOnImages(*sequence_, defaultVioBackendOptions(VioMethod::kVio),
                                          static_start, smallImageFrontend(), nullptr,
                                          /*log=*/false);
   EXPECT_EQ(guess.vio.start, StartKind::kStatic);
@@ -320,9 +320,9 @@ TEST(VisualInertialStartSweep, DISABLED_RenderedFlights) {
     const Sequence seq = renderImagesOnly(flight, dir);
     VioRunOptions static_start;
     static_start.visual_inertial_init = false;
-    const auto vi = run::runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
+    const auto vi = runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
                                         VioRunOptions(), smallImageFrontend(), nullptr, false);
-    const auto st = run::runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
+    const auto st = runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
                                         static_start, smallImageFrontend(), nullptr, false);
     StartErrors e;
     if (!vi.vio.vi_init.states.empty()) e = startErrors(seq, vi.vio.vi_init.states);
@@ -349,8 +349,8 @@ TEST(VisualPipelineEuroc, VioOnTheExcerptTracksEveryImageAndStaysNearGroundTruth
   const Sequence seq = io::readAsl(path);
   VioRunOptions run;
   run.init_from_groundtruth = true;
-  const auto out = run::runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio), run,
-                                       run::VisualFrontendConfig(), nullptr, /*log=*/false);
+  const auto out = runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio), run,
+                                       VisualFrontendConfig(), nullptr, /*log=*/false);
   EXPECT_EQ(out.lost_images, 0);
   EXPECT_EQ(out.reinitializations, 0);
   const PositionError e = positionError(seq, out.vio.states);
@@ -368,8 +368,8 @@ TEST(VisualPipelineEuroc, DefaultStartOnTheHoverFallsBackToStatic) {
   const std::string path = std::string(HDVIO_DATA_DIR) + "/euroc/V1_01_easy_excerpt";
   if (!fs::exists(path)) GTEST_SKIP() << "no " << path;
   const Sequence seq = io::readAsl(path);
-  const auto out = run::runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
-                                       VioRunOptions(), run::VisualFrontendConfig(), nullptr,
+  const auto out = runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
+                                       VioRunOptions(), VisualFrontendConfig(), nullptr,
                                        /*log=*/false);
   EXPECT_EQ(out.vio.start, StartKind::kStaticAtRest);
   EXPECT_LT(secondsBetween(seq.images.front().t, out.vio.start_t), 0.6);

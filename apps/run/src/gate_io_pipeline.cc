@@ -10,7 +10,8 @@
 #include <optional>
 
 #include "hdvio/backend/imo/gate_io_runner.h"
-#include "hdvio/backend/vio_runner.h"
+#include "hdvio/pipeline/displacement_network_source.h"
+#include "hdvio/core/sequence.h"
 #include "hdvio/core/error.h"
 #include "hdvio/io/gate_corners.h"
 #include "hdvio/learned/displacement_model.h"
@@ -113,8 +114,10 @@ class GateIoPipeline : public MethodPipeline {
   imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust,
                                      Timestamp start) const {
     if (!model_) return {};
-    return makeNetworkDisplacementSource(model_, seq, thrust,
-                                         release_first_window_sample_ ? std::optional<Timestamp>(start) : std::nullopt);
+    // The sequence outlives the run: its IMU is shared without a copy.
+    const std::shared_ptr<const std::vector<ImuSample>> imu(std::shared_ptr<void>(), &seq.imu);
+    return networkDisplacementSource(model_, imu, std::make_shared<const std::vector<ThrustSample>>(thrust),
+                                     release_first_window_sample_ ? std::optional<Timestamp>(start) : std::nullopt);
   }
 
   ExperimentFile file_;

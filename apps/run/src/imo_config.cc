@@ -64,47 +64,6 @@ std::shared_ptr<const learned::DisplacementModel> loadDisplacementNetwork(
   return std::make_shared<const learned::DisplacementModel>(learned::DisplacementModel::load(path));
 }
 
-namespace {
-// The sample at time t (if any, and not the last) takes the next sample's values.
-template <class Sample>
-void repeatNextSample(std::vector<Sample>* stream, Timestamp t) {
-  auto it = std::lower_bound(stream->begin(), stream->end(), t,
-                             [](const Sample& s, Timestamp tt) { return s.t < tt; });
-  if (it == stream->end() || it->t != t || it + 1 == stream->end()) return;
-  *it = *(it + 1);
-  it->t = t;
-}
-}  // namespace
-
-imo::DisplacementSource makeNetworkDisplacementSource(
-    std::shared_ptr<const learned::DisplacementModel> model, const Sequence& seq,
-    std::vector<ThrustSample> thrust, std::optional<Timestamp> repeat_next_at) {
-  const bool use_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
-  const Timestamp w = model->windowDuration();
-  auto covered = [w](const auto& stream, Timestamp t_end) {
-    return !stream.empty() && stream.front().t <= t_end - w && stream.back().t >= t_end;
-  };
-  std::shared_ptr<const std::vector<ImuSample>> imu_copy;
-  if (repeat_next_at) {
-    auto imu = std::make_shared<std::vector<ImuSample>>(seq.imu);
-    repeatNextSample(imu.get(), *repeat_next_at);
-    repeatNextSample(&thrust, *repeat_next_at);
-    imu_copy = std::move(imu);
-  }
-  return [model, &seq, imu_copy, thrust = std::move(thrust), use_thrust, covered](
-             const imo::DisplacementRequest& r) -> std::optional<imo::DisplacementEstimate> {
-    const std::vector<ImuSample>& imu = imu_copy ? *imu_copy : seq.imu;
-    if (!covered(imu, r.t_end) || (use_thrust && !covered(thrust, r.t_end))) return std::nullopt;
-    const learned::MatrixXf window = learned::makeDisplacementWindow(
-        *model, imu, thrust, r.t_end, r.world_from_body, r.gyro_bias, r.accel_bias);
-    const learned::DisplacementPrediction p = model->predict(window);
-    imo::DisplacementEstimate e;
-    e.z = p.displacement;
-    e.covariance = p.covariance;
-    return e;
-  };
-}
-
 std::vector<ImuSample> imuSpanWithGroundTruth(const Sequence& seq, double start_offset_s,
                                               double duration_s) {
   if (seq.groundtruth.empty()) throw InputError(seq.source, 0, "the sequence has no ground truth");

@@ -10,10 +10,11 @@
 
 #include "hdvio/backend/imo/displacement_source.h"
 #include "hdvio/backend/imo/drag_model.h"
-#include "hdvio/backend/imo/imo_runner.h"
-#include "hdvio/backend/vio_runner.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/sequence.h"
 #include "hdvio/learned/displacement_model.h"
+#include "hdvio/pipeline/displacement_network_source.h"
+#include "hdvio/pipeline/inertial_sequence_runner.h"
 #include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
 #include "hdvio/run/progress.h"
@@ -96,12 +97,14 @@ class InertialPipeline : public MethodPipeline {
       throw InputError(seq.source, 0, "method " + method_ + " needs ground-truth velocity to start");
     init.bias << init_gyro_bias_, init_accel_bias_;
 
-    const imo::DisplacementSource source = makeSource(seq, thrust, imu.front().t);
+    InertialEstimatorOptions options;
+    options.run = options_;
+    options.network_only = method_ == "net_only";
+    options.source_needs_thrust = needs_thrust;
     Progress progress(method_, imu.front().t, imu.back().t);
     const auto on_progress = [&progress](Timestamp t) { progress.update(t); };
-    const imo::ImoRunOutput out = method_ == "net_only"
-                                      ? imo::runNetworkOnly(imu, init, options_, source, on_progress)
-                                      : imo::runImoFilter(imu, init, options_, source, on_progress);
+    const imo::ImoRunOutput out =
+        runInertialOnSequence(seq, thrust, imu, init, options, sourceFactory(imu.front().t), on_progress);
     progress.finish();
 
     RunResults results;
@@ -124,13 +127,20 @@ class InertialPipeline : public MethodPipeline {
     return thrust;
   }
 
-  imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust,
-                                     Timestamp start) const {
+  // The displacement source over the estimator's buffers: the drag model or the network (start:
+  // the first IMU sample, for release_first_window_sample).
+  DisplacementSourceFactory sourceFactory(Timestamp start) const {
     if (!model_)
-      return imo::makeDragModelSource(thrust, drag_model_, model_step_s_, options_.measurement_sigma,
-                                      options_.filter.gravity, model_attitude_jacobian_);
-    return makeNetworkDisplacementSource(model_, seq, thrust,
-                                         release_first_window_sample_ ? std::optional<Timestamp>(start) : std::nullopt);
+      return [this](const InertialBuffers& b) {
+        return imo::makeDragModelSource(b.thrust, drag_model_, model_step_s_,
+                                        options_.measurement_sigma, options_.filter.gravity,
+                                        model_attitude_jacobian_);
+      };
+    const std::optional<Timestamp> repeat =
+        release_first_window_sample_ ? std::optional<Timestamp>(start) : std::nullopt;
+    return [model = model_, repeat](const InertialBuffers& b) {
+      return networkDisplacementSource(model, b.imu, b.thrust, repeat);
+    };
   }
 
   std::string method_;

@@ -6,11 +6,12 @@
 #include <filesystem>
 #include <memory>
 
-#include "hdvio/backend/vio_runner.h"
 #include "hdvio/core/error.h"
 #include "hdvio/learned/residual_force_provider.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/run/method_pipeline.h"
-#include "hdvio/run/visual_image_runner.h"
+#include "hdvio/run/progress.h"
+#include "hdvio/run/visual_frontend_config.h"
 
 namespace hdvio::run {
 namespace {
@@ -68,27 +69,17 @@ class VisualPipeline : public MethodPipeline {
       throw InputError(seq.name, 0,
                        "method needs thrust: collective thrust (thrust0/ or rotor speeds with a "
                        "rotor calibration), the sequence has none");
-    ResidualForceSource residual_force;
-    if (provider_) {
-      auto provider = provider_;
-      residual_force = [provider, &seq, thrust](Timestamp t_i, Timestamp t_j,
-                                                const Vec3& gyro_bias) {
-        const Timestamp from = t_i - fromSeconds(provider->historySeconds());
-        const auto inputs = learned::makeDynamicsInputs(seq.imu, thrust, from, t_j);
-        auto forces = std::make_shared<const std::vector<learned::ResidualForce>>(
-            provider->residualForces(inputs, t_i, t_j, gyro_bias));
-        return ResidualForceFn(
-            [forces](Timestamp t) { return learned::residualForceAt(*forces, t); });
-      };
-    }
     RunResults results;
     VioRunOutput out;
     if (resolveObservationSource(frontend_.source, seq) == ObservationSource::kTracks) {
-      out = runVioOnTracks(seq, options_, run_, residual_force);
+      out = runVioOnTracks(seq, options_, run_, provider_);
       std::fprintf(stderr, "hdvio_run: started from the %s initialization at %.2f s\n",
                    toString(out.start).c_str(), toSeconds(out.start_t - seq.imu.front().t));
     } else {
-      ImageRunOutput images = runVioOnImages(seq, options_, run_, frontend_, residual_force);
+      Progress progress(toString(method_) + " (images)", seq.images.front().t, seq.images.back().t);
+      ImageRunOutput images = runVioOnImages(seq, options_, run_, frontend_, provider_, true,
+                                             [&progress](Timestamp t) { progress.update(t); });
+      progress.finish();
       out = std::move(images.vio);
       results.stages.push_back({"initialization", images.init_time_s, images.init_images});
       results.stages.push_back({"image_loading", images.load_time_s,
@@ -99,15 +90,8 @@ class VisualPipeline : public MethodPipeline {
 
     results.states = out.states;
     results.has_force = usesDynamics(method_);
-    if (provider_) results.residual_force_B = residualForcesAtStates(seq, thrust, out.states);
-    const DragLaw& drag = options_.dynamics.drag;
-    if (usesDynamics(method_) && drag.enabled()) {  // the model's force includes the drag law
-      results.residual_force_B.resize(out.states.size(), Vec3::Zero());
-      for (std::size_t k = 0; k < out.states.size(); ++k) {
-        const NavState& s = out.states[k];
-        results.residual_force_B[k] += drag.force(s.T_WB.R().transpose() * s.v_W);
-      }
-    }
+    // The model's force (learned residual + drag law), evaluated by the estimator after the run.
+    results.residual_force_B = out.model_force_B;
     for (const auto& f : out.frames)
       results.timing.push_back({f.state.t, 1e3 * f.solve_time_s, f.solver_iterations,
                                 f.landmarks_in_window, f.observations_used, f.keyframe});
@@ -116,25 +100,6 @@ class VisualPipeline : public MethodPipeline {
   }
 
  private:
-  // The provider's residual force at each state (body frame), for the force outputs: evaluated
-  // after the run with the state's final gyro-bias estimate, from the thrust samples around the
-  // state's time (linear between them, as the dynamics preintegration uses it).
-  std::vector<Vec3> residualForcesAtStates(const Sequence& seq,
-                                           const std::vector<ThrustSample>& thrust,
-                                           const std::vector<NavState>& states) const {
-    std::vector<Vec3> out;
-    out.reserve(states.size());
-    const Timestamp margin = fromSeconds(0.05);  // thrust samples on both sides at >= 20 Hz
-    for (const NavState& s : states) {
-      const Timestamp from = s.t - margin - fromSeconds(provider_->historySeconds());
-      const auto inputs = learned::makeDynamicsInputs(seq.imu, thrust, from, s.t + margin);
-      const auto forces =
-          provider_->residualForces(inputs, s.t - margin, s.t + margin, s.bias.head<3>());
-      out.push_back(forces.empty() ? Vec3::Zero() : learned::residualForceAt(forces, s.t));
-    }
-    return out;
-  }
-
   // A network trained on what a drag law leaves (weight file version 3) brings the law: the
   // dynamics add it at the state's velocity. backend.drag_* may repeat it, not contradict it.
   void adoptDragLaw(const DragLaw& law, const std::string& config_path) {

@@ -5,7 +5,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "hdvio/backend/vio_runner.h"
+#include "hdvio/core/sequence.h"
 #include "hdvio/core/error.h"
 
 namespace hdvio::imo {
@@ -123,10 +123,16 @@ void integrateModel(const std::vector<Mat3>& R, const std::vector<Vec3>& kT, con
 DisplacementSource makeDragModelSource(std::vector<ThrustSample> thrust, const DragModel& model,
                                        double step_s, const Vec3& sigma, const Vec3& gravity,
                                        bool attitude_jacobian) {
+  return makeDragModelSource(std::make_shared<const std::vector<ThrustSample>>(std::move(thrust)),
+                             model, step_s, sigma, gravity, attitude_jacobian);
+}
+
+DisplacementSource makeDragModelSource(std::shared_ptr<const std::vector<ThrustSample>> samples,
+                                       const DragModel& model, double step_s, const Vec3& sigma,
+                                       const Vec3& gravity, bool attitude_jacobian) {
   if (!(step_s > 0.0)) throw std::invalid_argument("makeDragModelSource: step must be > 0");
   if (!model.drag.quadratic.isZero(0.0))
     throw std::invalid_argument("makeDragModelSource: the Model-EKF takes linear drag only");
-  auto samples = std::make_shared<const std::vector<ThrustSample>>(std::move(thrust));
   const Mat3 cov = sigma.cwiseAbs2().asDiagonal();
   return [samples, model, step_s, cov, gravity, attitude_jacobian](const DisplacementRequest& r)
              -> std::optional<DisplacementEstimate> {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "hdvio/backend/nav_state.h"
+#include "hdvio/core/nav_state.h"
 #include "hdvio/backend/vi_init_alignment.h"
 #include "hdvio/backend/vi_init_sfm.h"
 #include "hdvio/backend/vio_backend.h"

@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "hdvio/backend/adaptive_force_walk.h"
-#include "hdvio/backend/nav_state.h"
+#include "hdvio/core/frame_observations.h"
+#include "hdvio/core/nav_state.h"
 #include "hdvio/backend/sliding_window_smoother.h"
 #include "hdvio/backend/vio_options.h"
 #include "hdvio/factors/camera_model.h"
@@ -20,20 +21,10 @@ namespace hdvio {
 
 // The pluggable residual-force provider of hdvio mode: given an interval and the current gyro
 // bias estimate, the learned residual force (body frame, m/s^2) as a function of time over it.
-// The learned module's providers are adapted to this shape by the apps (backend does not
-// depend on learned/).
+// The learned module's providers are adapted to this shape by the pipeline library
+// (backend/pipeline residual_force_adapter.h; the estimators do not depend on learned/).
 using ResidualForceSource =
     std::function<ResidualForceFn(Timestamp t_i, Timestamp t_j, const Vec3& gyro_bias)>;
-
-struct FeatureObservation {
-  int landmark_id = 0;
-  Vec2 uv = Vec2::Zero();  // distorted pixel coordinates
-};
-
-struct FrameObservations {
-  Timestamp t = 0;
-  std::vector<FeatureObservation> features;
-};
 
 struct FrameResult {
   bool processed = false;     // false: not enough IMU data yet for this frame
@@ -66,6 +57,8 @@ class VioBackend {
 
   NavState latestState() const;
   std::vector<NavState> windowStates() const;
+  // The smoother's estimate of a landmark (world frame); nullopt when it is not in the window.
+  std::optional<Vec3> landmarkPosition(int landmark_id) const;
   const SlidingWindowSmoother& smoother() const { return smoother_; }
 
  private:

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hdvio/core/lie.h"
+#include "hdvio/core/nav_state.h"
 #include "hdvio/core/time.h"
 
 namespace hdvio {
@@ -141,5 +142,9 @@ inline std::vector<ThrustSample> thrustSamples(const Sequence& seq) {
     out.push_back({r.t, c.thrust_coefficient / c.mass * r.speeds.squaredNorm() * c.thrust_axis});
   return out;
 }
+
+// Ground-truth state at t (linear / slerp interpolation between the samples around t; biases
+// when the ground truth has them). Throws InputError when t is outside the ground truth.
+NavState groundTruthState(const Sequence& seq, Timestamp t);
 
 }  // namespace hdvio

@@ -1,7 +1,8 @@
 #pragma once
 // What the inertial pipelines (imo/tlio/model_ekf/net_only and gate_io) read and build alike:
-// the IMO filter's `filter:` section, the displacement network of a `network:` section, and the
-// network's displacement source over a sequence (docs/imo.md, docs/gate_io.md).
+// the IMO filter's `filter:` section and the displacement network of a `network:` section
+// (docs/imo.md, docs/gate_io.md). The network's displacement source is the pipeline's
+// (backend/pipeline displacement_network_source.h).
 #include <memory>
 #include <optional>
 #include <string>
@@ -38,15 +39,6 @@ Vec3 readVec3(const ConfigReader& r, const std::string& key, const Vec3& fallbac
 // *weights (optional) receives the path as written.
 std::shared_ptr<const learned::DisplacementModel> loadDisplacementNetwork(
     const ConfigReader& network, const std::string& experiment_dir, std::string* weights = nullptr);
-
-// The network's displacement over each requested window, rotated with the filter's orientation
-// (learned::makeDisplacementWindow); no estimate where the IMU (or, for a thrust network, the
-// thrust) does not cover the window. The sequence must outlive the source; thrust is copied.
-// repeat_next_at (release_first_window_sample): the IMU and thrust samples at that time take
-// the next samples' values in the windows (on copies of the streams).
-imo::DisplacementSource makeNetworkDisplacementSource(
-    std::shared_ptr<const learned::DisplacementModel> model, const Sequence& seq,
-    std::vector<ThrustSample> thrust, std::optional<Timestamp> repeat_next_at = std::nullopt);
 
 // The IMU samples the inertial methods run on: from the first sample inside the ground truth
 // (+ start_offset_s), for duration_s (<= 0: to the end). InputError when no sample is inside.

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "hdvio/backend/nav_state.h"
+#include "hdvio/core/nav_state.h"
 
 namespace hdvio::run {
 

@@ -1,31 +1,13 @@
 #pragma once
 // The `frontend:` section of a visual experiment (vio, vimo, vid, hdvio): where the backend's
 // landmark observations come from and, for images, the semi-direct frontend's options. Strict
-// like every config: unknown keys are errors. See docs/visual_pipeline.md.
+// like every config: unknown keys are errors. The struct is the pipeline's
+// (backend/pipeline visual_frontend_config.h). See docs/visual_pipeline.md.
 #include "hdvio/core/config.h"
 #include "hdvio/core/sequence.h"
-#include "hdvio/frontend/frontend_types.h"
+#include "hdvio/pipeline/visual_frontend_config.h"
 
 namespace hdvio::run {
-
-enum class ObservationSource {
-  kAuto,    // tracks when the sequence has landmark tracks (landmarks0/), else images
-  kTracks,  // the simulator's ground-truth landmark tracks
-  kImages,  // the semi-direct frontend on cam0 images
-};
-
-struct VisualFrontendConfig {
-  ObservationSource source = ObservationSource::kAuto;
-  frontend::FrontendOptions options;
-  // The backend's IMU-predicted pose seeds the frontend's sparse alignment (and, while the
-  // frontend bootstraps or relocalizes, is the image pose).
-  bool backend_pose_prior = true;
-  // Optimized keyframe poses and landmarks go back into the frontend's map after every frame.
-  bool backend_feedback = true;
-  // Frames with fewer tracked features are given to the backend without observations
-  // (IMU-only step) and counted as lost.
-  int min_features_for_backend = 10;
-};
 
 VisualFrontendConfig loadVisualFrontendConfig(const ConfigReader& section);
 

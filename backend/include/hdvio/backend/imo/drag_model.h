@@ -6,6 +6,7 @@
 // learn velocity from it; without it (D = 0) the model is dead reckoning with the thrust in
 // place of the accelerometer. k and d are fitted on training flights by least squares against
 // the accelerometer (specific force f = k T - D v_body). docs/imo.md.
+#include <memory>
 #include <vector>
 
 #include "hdvio/backend/imo/displacement_source.h"
@@ -62,6 +63,11 @@ DragLawFit fitDragLawOnSamples(const std::vector<DragSample>& samples, double th
 // attitude_jacobian) the derivative of C v_i + d with respect to the begin clone's attitude
 // error, because the model's thrust direction depends on it exactly as the IMU prediction does.
 // Integration: midpoint steps of about step_s, thrust interpolated at their midpoints.
+// thrust shared: it may grow while the source lives (a streaming estimator's buffer); windows
+// it does not cover yet get no estimate.
+DisplacementSource makeDragModelSource(std::shared_ptr<const std::vector<ThrustSample>> thrust,
+                                       const DragModel& model, double step_s, const Vec3& sigma,
+                                       const Vec3& gravity, bool attitude_jacobian);
 DisplacementSource makeDragModelSource(std::vector<ThrustSample> thrust, const DragModel& model,
                                        double step_s, const Vec3& sigma, const Vec3& gravity,
                                        bool attitude_jacobian);

@@ -9,7 +9,7 @@
 #include "hdvio/backend/imo/displacement_source.h"
 #include "hdvio/backend/imo/gate_reprojection.h"
 #include "hdvio/backend/imo/imo_runner.h"
-#include "hdvio/backend/nav_state.h"
+#include "hdvio/core/nav_state.h"
 
 namespace hdvio::imo {
 

@@ -9,7 +9,7 @@
 #include "hdvio/backend/imo/displacement_source.h"
 #include "hdvio/backend/imo/imo_filter.h"
 #include "hdvio/backend/imo/imo_propagation.h"
-#include "hdvio/backend/nav_state.h"
+#include "hdvio/core/nav_state.h"
 #include "hdvio/core/sequence.h"
 #include "hdvio/core/thread_clock.h"
 

@@ -6,11 +6,12 @@
 // up to the window's start (so at most window * rate clones stay). Also the network-only
 // baseline: displacements concatenated without a filter. docs/imo.md.
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "hdvio/backend/imo/displacement_source.h"
 #include "hdvio/backend/imo/imo_filter.h"
-#include "hdvio/backend/nav_state.h"
+#include "hdvio/core/nav_state.h"
 
 namespace hdvio::imo {
 
@@ -43,6 +44,36 @@ struct ImoRunOutput {
 
 // Throws std::invalid_argument for inconsistent options (window not a multiple of the period).
 void checkRunOptions(const ImoRunOptions& options);
+
+// The filter (or the network-only baseline) one IMU sample at a time, as runImoFilter and
+// runNetworkOnly below do over a whole stream: propagation at IMU rate, the update grid
+// (start + k / update_rate_hz) split into the IMU intervals. The streaming estimators
+// (backend/pipeline inertial_estimator.h) feed it; it keeps the output states.
+class ImoStepper {
+ public:
+  enum class Mode { kFilter, kNetworkOnly };
+  // first: the IMU sample at init.t. The source is asked for one window at each grid time.
+  ImoStepper(Mode mode, const ImoRunOptions& options, const NavState& init, const ImuSample& first,
+             DisplacementSource source);
+  ~ImoStepper();
+  ImoStepper(const ImoStepper&) = delete;
+  ImoStepper& operator=(const ImoStepper&) = delete;
+
+  // The next sample, strictly after the previous one.
+  void addImu(const ImuSample& sample);
+  // The next grid time: a sample at or after it asks the source for a window ending there.
+  Timestamp nextGridTime() const;
+  NavState state() const;  // at the last sample (filter) or grid time (network only)
+  // The states and counters so far. Stage times: source_s and the grid time (clone, source,
+  // update, marginalization) in gridSeconds(); the caller owns the propagation time.
+  const ImoRunOutput& output() const;
+  ImoRunOutput& output();
+  double gridSeconds() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // The filter starts at init.t (must be an IMU sample time) from init's pose, velocity and
 // biases ([bg, ba]). on_progress (may be empty) gets the time after each IMU sample.

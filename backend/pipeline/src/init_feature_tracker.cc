@@ -1,4 +1,4 @@
-#include "hdvio/run/init_feature_tracker.h"
+#include "hdvio/pipeline/init_feature_tracker.h"
 
 #include <algorithm>
 
@@ -7,7 +7,7 @@
 
 #include "hdvio/core/error.h"
 
-namespace hdvio::run {
+namespace hdvio {
 
 InitFeatureTracker::InitFeatureTracker(InitTrackerOptions options) : options_(options) {}
 
@@ -64,8 +64,8 @@ FrameObservations InitFeatureTracker::track(Timestamp t, const cv::Mat& image) {
   FrameObservations out{t, {}};
   out.features.reserve(points_.size());
   for (std::size_t i = 0; i < points_.size(); ++i)
-    out.features.push_back({ids_[i], Vec2(points_[i].x, points_[i].y)});
+    out.features.push_back({ids_[i], Eigen::Vector2d(points_[i].x, points_[i].y)});
   return out;
 }
 
-}  // namespace hdvio::run
+}  // namespace hdvio

@@ -7,9 +7,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "hdvio/backend/vio_backend.h"
+#include "hdvio/core/frame_observations.h"
 
-namespace hdvio::run {
+namespace hdvio {
 
 struct InitTrackerOptions {
   int max_features = 150;
@@ -39,4 +39,4 @@ class InitFeatureTracker {
   int next_id_ = 0;
 };
 
-}  // namespace hdvio::run
+}  // namespace hdvio

@@ -1,6 +1,6 @@
-// hdvio_run's inertial methods on the real Blackbird validation flight (filter with true
-// displacements, the Model-EKF, the shipped networks), and bad inputs (missing thrust, ground truth or weights) are
-// InputErrors.
+// hdvio_run's inertial methods on the real Blackbird validation flight (the Model-EKF, the
+// shipped networks), and bad inputs (missing thrust, ground truth or weights) are InputErrors.
+// The estimator alone: test/imo/imo_streaming_test.cc.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,8 +9,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "hdvio/backend/imo/imo_runner.h"
-#include "hdvio/backend/vio_runner.h"
+#include "../common/blackbird_val.h"
 #include "hdvio/core/error.h"
 #include "hdvio/io/sequence_reader.h"
 #include "hdvio/run/imo_config.h"
@@ -18,9 +17,6 @@
 
 namespace hdvio::run {
 namespace {
-
-const std::string kBlackbirdVal =
-    std::string(HDVIO_DATA_DIR) + "/blackbird/clover_yawForward_maxSpeed5p0/val";
 
 const ExperimentFile kFile{"test.yaml", ""};
 
@@ -33,56 +29,9 @@ std::unique_ptr<MethodPipeline> make(const std::string& method, const std::strin
   return p;
 }
 
-const Sequence& blackbirdVal() {
-  static const Sequence seq = io::readSequence(kBlackbirdVal);
-  return seq;
-}
-
-double positionRmse(const Sequence& seq, const std::vector<NavState>& states, double* max_err) {
-  double sum_sq = 0.0;
-  *max_err = 0.0;
-  for (const NavState& s : states) {
-    const double e = (s.T_WB.p - groundTruthState(seq, s.t).T_WB.p).norm();
-    sum_sq += e * e;
-    *max_err = std::max(*max_err, e);
-  }
-  return std::sqrt(sum_sq / states.size());
-}
-
-// The filter on the real IMU of the Blackbird validation flight, updated with ground-truth
-// displacements (0.01 m sigma): real sensor timing, biases and rates, a measurement we trust.
-TEST(ImoPipeline, FilterOnRealImuWithTrueDisplacementsTracksGroundTruth) {
-  if (!std::filesystem::exists(kBlackbirdVal)) GTEST_SKIP() << "no " << kBlackbirdVal;
-  const Sequence& seq = blackbirdVal();
-  std::vector<ImuSample> imu;
-  for (const auto& s : seq.imu)
-    if (s.t >= seq.groundtruth.front().t && s.t <= seq.groundtruth.front().t + fromSeconds(15.0))
-      imu.push_back(s);
-  NavState init = groundTruthState(seq, imu.front().t);
-  init.bias.setZero();
-  const imo::DisplacementSource truth = [&seq](const imo::DisplacementRequest& r)
-      -> std::optional<imo::DisplacementEstimate> {
-    return imo::DisplacementEstimate{groundTruthState(seq, r.t_end).T_WB.p -
-                                         groundTruthState(seq, r.t_begin).T_WB.p,
-                                     Mat3::Identity()};
-  };
-  const imo::ImoRunOutput out = imo::runImoFilter(imu, init, imo::ImoRunOptions{}, truth);
-  const imo::ImoRunOutput dead = imo::runImoFilter(
-      imu, init, imo::ImoRunOptions{},
-      [](const imo::DisplacementRequest&) { return std::nullopt; });
-  double max_err = 0.0, max_dead = 0.0;
-  const double rmse = positionRmse(seq, out.states, &max_err);
-  positionRmse(seq, dead.states, &max_dead);
-  EXPECT_NEAR(out.updates, 290, 1);  // 20 Hz over 15 s, from 0.5 s on
-  EXPECT_LT(rmse, 0.05) << "max " << max_err;
-  EXPECT_LT(max_err, 0.15);
-  EXPECT_GT(max_dead, 10.0);  // the same IMU without updates
-  double max_rot = 0.0;
-  for (const NavState& s : out.states)
-    max_rot = std::max(max_rot, so3Log(groundTruthState(seq, s.t).T_WB.R().transpose() *
-                                       s.T_WB.R()).norm());
-  EXPECT_LT(max_rot * 180.0 / M_PI, 5.0);
-}
+using test::blackbirdVal;
+using test::kBlackbirdVal;
+using test::positionRmse;
 
 // The Model-EKF through hdvio_run's pipeline with the shipped config (thrust + linear drag
 // fitted on the Blackbird *train* flight) on the whole validation flight, without alignment:
