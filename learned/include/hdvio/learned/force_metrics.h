@@ -19,4 +19,17 @@ struct ForceRmse {
 ForceRmse forceRmse(const std::vector<Vec3>& predicted, const std::vector<Vec3>& measured,
                     double mass);
 
+// Calibration of a predicted per-axis standard deviation: the fraction of error components
+// (3 per sample) with |predicted - measured| <= k * sigma, for k = 1 and 2. A calibrated
+// Gaussian gives 0.683 and 0.954.
+struct SigmaCoverage {
+  double within_1_sigma = 0.0;
+  double within_2_sigma = 0.0;
+  std::size_t components = 0;
+};
+
+// Throws std::invalid_argument if the sizes differ, are zero, or a sigma is not positive.
+SigmaCoverage sigmaCoverage(const std::vector<Vec3>& predicted, const std::vector<Vec3>& sigma,
+                            const std::vector<Vec3>& measured);
+
 }  // namespace hdvio::learned
