@@ -144,6 +144,16 @@ TEST(ForceMetrics, SigmaCoverageCountsComponentsWithinOneAndTwoSigma) {
   EXPECT_NEAR(g.within_1_sigma, 0.683, 0.01);
   EXPECT_NEAR(g.within_2_sigma, 0.954, 0.005);
   EXPECT_THROW(sigmaCoverage(pred, {Vec3::Ones(), Vec3::Zero()}, meas), std::invalid_argument);
+  // Quantile: |e| / sigma = 0.5, 1.5, 2.5, 1, 3, 0 -> sorted 0, 0.5, 1, 1.5, 2.5, 3; the 50 %
+  // quantile is the 3rd value. Sigma 3x too large -> factor ~ 1/3 restores 68.3 %.
+  EXPECT_DOUBLE_EQ(sigmaQuantile(pred, sigma, meas, 0.5), 1.0);
+  EXPECT_DOUBLE_EQ(sigmaQuantile(pred, sigma, meas, 0.99), 3.0);
+  std::vector<Vec3> s3(20000, Vec3::Constant(2.1));
+  const double q = sigmaQuantile(e, s3, zero, 0.683);
+  EXPECT_NEAR(q, 1.0 / 3.0, 0.01);
+  std::vector<Vec3> rescaled(20000, Vec3::Constant(2.1 * q));
+  EXPECT_NEAR(sigmaCoverage(e, rescaled, zero).within_1_sigma, 0.683, 0.002);
+  EXPECT_THROW(sigmaQuantile(pred, sigma, meas, 1.0), std::invalid_argument);
   EXPECT_THROW(sigmaCoverage(pred, sigma, {}), std::invalid_argument);
 }
 

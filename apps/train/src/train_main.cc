@@ -25,7 +25,10 @@ DEFINE_string(data_root, "../shared/data", "prefix for relative data paths of th
 DEFINE_string(checkpoint_dir, "", "optional folder for checkpoint.pt and best.tcn");
 DEFINE_int32(hold_out, -1, "leave-one-flight-out fold: train without data.train[i] (never read)");
 DEFINE_bool(list_flights, false, "print data.train, one flight per line (the folds), and exit");
-DEFINE_string(effective_config, "", "write the resolved config (fold flights, thrust coefficient) here");
+DEFINE_string(effective_config, "",
+              "write the resolved config (fold flights, thrust coefficient, fitted drag law) here");
+DEFINE_bool(fit_only, false,
+            "refit the thrust coefficient and the drag law, write --effective_config, do not train");
 
 namespace {
 
@@ -98,11 +101,18 @@ DragLaw fitDragLawOn(const std::vector<learned::FlightSamples>& flights) {
 // The config as this run used it: the fold's training flights and the thrust coefficient it
 // refitted, so the run can be repeated with plain hdvio_train --config.
 void writeEffectiveConfig(const std::string& path, const std::string& comment,
-                          const std::vector<std::string>& train_paths, double thrust_coefficient) {
+                          const std::vector<std::string>& train_paths, double thrust_coefficient,
+                          const DragLaw& drag) {
   YAML::Node n = YAML::LoadFile(FLAGS_config);
   n["data"]["train"] = train_paths;
   n["data"].remove("refit_thrust_coefficient");
   n["data"]["thrust_coefficient"] = thrust_coefficient;
+  if (drag.enabled()) {
+    n["model"]["drag_law"] = "given";
+    n["model"]["drag_linear"] = std::vector<double>{drag.linear.x(), drag.linear.y(), drag.linear.z()};
+    n["model"]["drag_quadratic"] =
+        std::vector<double>{drag.quadratic.x(), drag.quadratic.y(), drag.quadratic.z()};
+  }
   YAML::Emitter e;
   e.SetDoublePrecision(9);
   e << n;
@@ -118,7 +128,7 @@ int main(int argc, char** argv) {
       "usage: hdvio_train --config <train.yaml> --out <weights.tcn>\n"
       "trains the residual-force TCN (libtorch)\n"
       "example: hdvio_train --config config/learned/train_neurobem.yaml --out neurobem.tcn");
-  if (FLAGS_config.empty() || (FLAGS_out.empty() && !FLAGS_list_flights)) {
+  if (FLAGS_config.empty() || (FLAGS_out.empty() && !FLAGS_list_flights && !FLAGS_fit_only)) {
     std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
     return kExitBadInput;
   }
@@ -172,8 +182,6 @@ int main(int argc, char** argv) {
       thrust_coefficient = learned::fitThrustJointly(sequences, {}, 0.0, use_until).thrustCoefficient(mass);
       std::printf("thrust coefficient %.6e N s^2 rad^-2 (refit on the training flights)\n", thrust_coefficient);
     }
-    if (!FLAGS_effective_config.empty())
-      writeEffectiveConfig(FLAGS_effective_config, fold_note, train_paths, thrust_coefficient);
     options.checkpoint_dir = FLAGS_checkpoint_dir;
     if (!options.checkpoint_dir.empty()) std::filesystem::create_directories(options.checkpoint_dir);
 
@@ -201,6 +209,9 @@ int main(int argc, char** argv) {
                 << vecString(drag.quadratic) << (fit_drag ? " (fitted on the training part)" : "")
                 << "\n";
     options.drag = drag;
+    if (!FLAGS_effective_config.empty())
+      writeEffectiveConfig(FLAGS_effective_config, fold_note, train_paths, thrust_coefficient, drag);
+    if (FLAGS_fit_only) return 0;
     learned::Trainer trainer(arch, options);
     const learned::TrainingResult result = trainer.train(train_flights, validation_flights, std::cout);
     const auto& first = result.history.front();

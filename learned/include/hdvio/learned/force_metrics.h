@@ -32,4 +32,11 @@ struct SigmaCoverage {
 SigmaCoverage sigmaCoverage(const std::vector<Vec3>& predicted, const std::vector<Vec3>& sigma,
                             const std::vector<Vec3>& measured);
 
+// The p-quantile (0 < p < 1) of |predicted - measured| / sigma over all error components: the
+// factor that makes a fraction p of them fall within factor * sigma. With p = 0.683 on the
+// training flights it recalibrates the variance head (sigma' = factor * sigma) without
+// touching a test flight. Same preconditions as sigmaCoverage.
+double sigmaQuantile(const std::vector<Vec3>& predicted, const std::vector<Vec3>& sigma,
+                     const std::vector<Vec3>& measured, double p);
+
 }  // namespace hdvio::learned
