@@ -61,15 +61,27 @@ FlightSamples syntheticFlight(double phase) {
   return f;
 }
 
-TEST(TorchTraining, TinyRunReducesValidationLoss) {
+// The paper's layout at a quarter of the widths: trains in seconds.
+TcnArchitecture tinyArchitecture() {
   TcnArchitecture a;
   a.layers = {{16, 1}, {16, 1}, {16, 2}, {16, 2}, {32, 1}, {32, 1}, {32, 1}};
+  return a;
+}
+
+// Options of the short test runs.
+TrainOptions shortRun(int epochs, int stride) {
   TrainOptions o;
-  o.max_epochs = 8;
-  o.patience = 8;
+  o.max_epochs = epochs;
+  o.patience = epochs;
   o.learning_rate = 1e-3;
-  o.stride_samples = 4;
+  o.stride_samples = stride;
   o.seed = 3;
+  return o;
+}
+
+TEST(TorchTraining, TinyRunReducesValidationLoss) {
+  TcnArchitecture a = tinyArchitecture();
+  const TrainOptions o = shortRun(8, 4);
   Trainer trainer(a, o);
   std::ostringstream log;
   const TrainingResult r = trainer.train({syntheticFlight(0.0)}, {syntheticFlight(40.0)}, log);
@@ -83,8 +95,7 @@ TEST(TorchTraining, TinyRunReducesValidationLoss) {
 }
 
 TEST(TorchTraining, VarianceHeadTrainsToFiniteVariances) {
-  TcnArchitecture a;
-  a.layers = {{16, 1}, {16, 1}, {16, 2}, {16, 2}, {32, 1}, {32, 1}, {32, 1}};
+  TcnArchitecture a = tinyArchitecture();
   a.variance_head = true;
   TrainOptions o;
   o.max_epochs = 4;
@@ -117,14 +128,8 @@ double convWeightNorm(const Tcn& tcn) {
 // shrinks the weights the same seed otherwise leaves larger; thrust-scale augmentation changes
 // the training batches (not the validation set, which stays the same at epoch 0).
 TEST(TorchTraining, WeightDecayShrinksWeightsAndThrustScaleChangesBatches) {
-  TcnArchitecture a;
-  a.layers = {{16, 1}, {16, 1}, {16, 2}, {16, 2}, {32, 1}, {32, 1}, {32, 1}};
-  TrainOptions o;
-  o.max_epochs = 3;
-  o.patience = 3;
-  o.learning_rate = 1e-3;
-  o.stride_samples = 8;
-  o.seed = 3;
+  TcnArchitecture a = tinyArchitecture();
+  const TrainOptions o = shortRun(3, 8);
   const auto run = [&](const TrainOptions& opt) {
     Trainer trainer(a, opt);
     std::ostringstream log;
