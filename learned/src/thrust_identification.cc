@@ -116,4 +116,28 @@ ThrustFit fitThrust(const Sequence& seq, const ThrustFitOptions& options) {
   return fit;
 }
 
+ThrustFit fitThrustJointly(const std::vector<Sequence>& flights, const ThrustFitOptions& options,
+                           double begin, double end) {
+  if (flights.empty()) throw InputError("", 0, "thrust fit: no flights");
+  if (!(begin >= 0.0 && begin < end && end <= 1.0))
+    throw InputError("", 0, "thrust fit: need 0 <= begin < end <= 1");
+  Sequence all;
+  all.name = "joint fit";
+  for (const Sequence& s : flights) {
+    if (s.imu.empty() || s.rotor.empty())
+      throw InputError(s.name, 0, "thrust fit needs rotor speeds and IMU");
+    const Timestamp shift = all.imu.empty() ? 0 : all.imu.back().t + kNanosPerSecond - s.imu.front().t;
+    const auto n = static_cast<double>(s.rotor.size());
+    const auto r0 = static_cast<std::size_t>(begin * n), r1 = static_cast<std::size_t>(end * n);
+    for (std::size_t k = r0; k < r1; ++k) {
+      RotorSample r = s.rotor[k];
+      r.t += shift;
+      all.rotor.push_back(r);
+    }
+    for (auto m : s.imu) { m.t += shift; all.imu.push_back(m); }
+    for (auto g : s.groundtruth) { g.t += shift; all.groundtruth.push_back(g); }
+  }
+  return fitThrust(all, options);
+}
+
 }  // namespace hdvio::learned

@@ -67,6 +67,25 @@ TEST(ThrustIdentification, RecoversLinearDrag) {
   EXPECT_GT(no_drag.rmse_total, 2.0 * fit.rmse_total);
 }
 
+// A cross-validation fold's thrust model comes from its training flights only: two flights
+// with different coefficients (and the same clock) fit jointly to a value between them, and
+// a fold that leaves one out recovers the other's coefficient.
+TEST(ThrustIdentification, JointFitUsesOnlyTheGivenFlights) {
+  const double c1 = 2.0e-6, c2 = 2.4e-6;
+  const Sequence a = syntheticFlight(c1, Vec3::UnitZ(), Vec3::Zero(), 0.05);
+  const Sequence b = syntheticFlight(c2, Vec3::UnitZ(), Vec3::Zero(), 0.05);
+  const ThrustFit joint = fitThrustJointly({a, b});
+  EXPECT_EQ(joint.samples, a.rotor.size() + b.rotor.size());
+  EXPECT_GT(joint.c_over_m, c1 + 0.3 * (c2 - c1));
+  EXPECT_LT(joint.c_over_m, c2 - 0.3 * (c2 - c1));
+  EXPECT_NEAR(fitThrustJointly({a}).c_over_m, c1, 1e-3 * c1);
+  EXPECT_NEAR(fitThrustJointly({b}).c_over_m, c2, 1e-3 * c2);
+  // [begin, end) of each flight's rotor samples.
+  EXPECT_EQ(fitThrustJointly({a, b}, {}, 0.0, 0.5).samples, a.rotor.size() / 2 + b.rotor.size() / 2);
+  EXPECT_THROW(fitThrustJointly({}), InputError);
+  EXPECT_THROW(fitThrustJointly({a}, {}, 0.5, 0.5), InputError);
+}
+
 TEST(ThrustIdentification, RejectsSequencesWithoutRotors) {
   Sequence s = syntheticFlight(2e-6, Vec3::UnitZ(), Vec3::Zero(), 0.1);
   s.rotor.clear();
@@ -101,6 +120,41 @@ TEST(ForceMetrics, SplitsXyAndZ) {
   EXPECT_NEAR(r.f_xy, std::sqrt(4.0 / 2.0), 1e-12);
   EXPECT_NEAR(r.f_z, std::sqrt(16.0 / 2.0), 1e-12);
   EXPECT_THROW(forceRmse(pred, {}, 1.0), std::invalid_argument);
+}
+
+TEST(ForceMetrics, SigmaCoverageCountsComponentsWithinOneAndTwoSigma) {
+  const std::vector<Vec3> meas{Vec3::Zero(), Vec3::Zero()};
+  // errors (0.5, 1.5, 2.5) and (1.0, -3.0, 0.0) at sigma 1: within 1 sigma 0.5, 1.0, 0.0 -> 3 of 6;
+  // within 2 sigma additionally 1.5 -> 4 of 6.
+  const std::vector<Vec3> pred{Vec3(0.5, 1.5, 2.5), Vec3(1.0, -3.0, 0.0)};
+  const std::vector<Vec3> sigma{Vec3::Ones(), Vec3::Ones()};
+  const SigmaCoverage c = sigmaCoverage(pred, sigma, meas);
+  EXPECT_EQ(c.components, 6u);
+  EXPECT_NEAR(c.within_1_sigma, 3.0 / 6.0, 1e-12);
+  EXPECT_NEAR(c.within_2_sigma, 4.0 / 6.0, 1e-12);
+  // Per-axis sigma: doubling only z's sigma moves 2.5 inside 2 sigma.
+  const SigmaCoverage z = sigmaCoverage(pred, {Vec3(1, 1, 2), Vec3(1, 1, 2)}, meas);
+  EXPECT_NEAR(z.within_2_sigma, 5.0 / 6.0, 1e-12);
+  // Gaussian errors at their true sigma: close to 68.3 % / 95.4 %.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 0.7);
+  std::vector<Vec3> e(20000), s(20000, Vec3::Constant(0.7)), zero(20000, Vec3::Zero());
+  for (auto& v : e) v = Vec3(n(rng), n(rng), n(rng));
+  const SigmaCoverage g = sigmaCoverage(e, s, zero);
+  EXPECT_NEAR(g.within_1_sigma, 0.683, 0.01);
+  EXPECT_NEAR(g.within_2_sigma, 0.954, 0.005);
+  EXPECT_THROW(sigmaCoverage(pred, {Vec3::Ones(), Vec3::Zero()}, meas), std::invalid_argument);
+  // Quantile: |e| / sigma = 0.5, 1.5, 2.5, 1, 3, 0 -> sorted 0, 0.5, 1, 1.5, 2.5, 3; the 50 %
+  // quantile is the 3rd value. Sigma 3x too large -> factor ~ 1/3 restores 68.3 %.
+  EXPECT_DOUBLE_EQ(sigmaQuantile(pred, sigma, meas, 0.5), 1.0);
+  EXPECT_DOUBLE_EQ(sigmaQuantile(pred, sigma, meas, 0.99), 3.0);
+  std::vector<Vec3> s3(20000, Vec3::Constant(2.1));
+  const double q = sigmaQuantile(e, s3, zero, 0.683);
+  EXPECT_NEAR(q, 1.0 / 3.0, 0.01);
+  std::vector<Vec3> rescaled(20000, Vec3::Constant(2.1 * q));
+  EXPECT_NEAR(sigmaCoverage(e, rescaled, zero).within_1_sigma, 0.683, 0.002);
+  EXPECT_THROW(sigmaQuantile(pred, sigma, meas, 1.0), std::invalid_argument);
+  EXPECT_THROW(sigmaCoverage(pred, sigma, {}), std::invalid_argument);
 }
 
 }  // namespace

@@ -61,15 +61,27 @@ FlightSamples syntheticFlight(double phase) {
   return f;
 }
 
-TEST(TorchTraining, TinyRunReducesValidationLoss) {
+// The paper's layout at a quarter of the widths: trains in seconds.
+TcnArchitecture tinyArchitecture() {
   TcnArchitecture a;
   a.layers = {{16, 1}, {16, 1}, {16, 2}, {16, 2}, {32, 1}, {32, 1}, {32, 1}};
+  return a;
+}
+
+// Options of the short test runs.
+TrainOptions shortRun(int epochs, int stride) {
   TrainOptions o;
-  o.max_epochs = 8;
-  o.patience = 8;
+  o.max_epochs = epochs;
+  o.patience = epochs;
   o.learning_rate = 1e-3;
-  o.stride_samples = 4;
+  o.stride_samples = stride;
   o.seed = 3;
+  return o;
+}
+
+TEST(TorchTraining, TinyRunReducesValidationLoss) {
+  TcnArchitecture a = tinyArchitecture();
+  const TrainOptions o = shortRun(8, 4);
   Trainer trainer(a, o);
   std::ostringstream log;
   const TrainingResult r = trainer.train({syntheticFlight(0.0)}, {syntheticFlight(40.0)}, log);
@@ -83,8 +95,7 @@ TEST(TorchTraining, TinyRunReducesValidationLoss) {
 }
 
 TEST(TorchTraining, VarianceHeadTrainsToFiniteVariances) {
-  TcnArchitecture a;
-  a.layers = {{16, 1}, {16, 1}, {16, 2}, {16, 2}, {32, 1}, {32, 1}, {32, 1}};
+  TcnArchitecture a = tinyArchitecture();
   a.variance_head = true;
   TrainOptions o;
   o.max_epochs = 4;
@@ -105,6 +116,38 @@ TEST(TorchTraining, VarianceHeadTrainsToFiniteVariances) {
   const MatrixXf out = r.best.forwardSequence(x);
   EXPECT_TRUE(out.allFinite());
   EXPECT_EQ(out.rows(), 6);
+}
+
+double convWeightNorm(const Tcn& tcn) {
+  double s = 0.0;
+  for (const auto& c : tcn.weights().conv) s += c.weight.squaredNorm();
+  return std::sqrt(s);
+}
+
+// The regularization options are wired into the optimizer and the batches: strong weight decay
+// shrinks the weights the same seed otherwise leaves larger; thrust-scale augmentation changes
+// the training batches (not the validation set, which stays the same at epoch 0).
+TEST(TorchTraining, WeightDecayShrinksWeightsAndThrustScaleChangesBatches) {
+  TcnArchitecture a = tinyArchitecture();
+  const TrainOptions o = shortRun(3, 8);
+  const auto run = [&](const TrainOptions& opt) {
+    Trainer trainer(a, opt);
+    std::ostringstream log;
+    TrainingResult r = trainer.train({syntheticFlight(0.0)}, {syntheticFlight(40.0)}, log);
+    EXPECT_EQ(r.history.size(), 4u) << log.str();
+    return std::make_pair(convWeightNorm(exportTcn(trainer.module())), r.history);
+  };
+  const auto plain = run(o);
+  TrainOptions decay = o;
+  decay.weight_decay = 1.0;
+  const auto decayed = run(decay);
+  EXPECT_LT(decayed.first, 0.97 * plain.first);
+  TrainOptions scaled = o;
+  scaled.thrust_scale_sigma = 0.2;
+  const auto aug = run(scaled);
+  EXPECT_DOUBLE_EQ(aug.second[0].validation_loss, plain.second[0].validation_loss);
+  EXPECT_GT(std::abs(aug.second[1].train_loss - plain.second[1].train_loss), 1e-6 * plain.second[1].train_loss);
+  EXPECT_TRUE(std::isfinite(aug.second.back().validation_loss));
 }
 
 TEST(TorchTraining, SegmentsRemoveTheThrustPart) {

@@ -25,6 +25,10 @@ DEFINE_double(mass, 0.0, "kg: read rotor thrust with this mass and report newton
 DEFINE_double(begin_fraction, 0.0, "evaluate from this fraction of each flight ...");
 DEFINE_double(end_fraction, 1.0, "... up to this fraction");
 DEFINE_double(rate_hz, 100.0, "resampling rate (must match the network's)");
+DEFINE_string(drag_linear, "", "drag law alone (no --weights): linear coefficients x,y,z (body, 1/s)");
+DEFINE_string(drag_quadratic, "", "... and quadratic coefficients x,y,z (1/m); see hdvio_train --fit_only");
+DEFINE_double(sigma_scale, 1.0, "variance head: multiply its sigma by this (the training flights' "
+                                "calibration factor, printed as 'sigma quantile')");
 DEFINE_string(out_csv, "", "optional per-sample CSV: t, measured, thrust, tcn (mass-normalized)");
 
 namespace {
@@ -32,7 +36,8 @@ namespace {
 using hdvio::Vec3;
 
 struct Series {
-  std::vector<Vec3> measured, thrust, tcn, neurobem;
+  std::vector<Vec3> measured, thrust, law, tcn, neurobem;
+  std::vector<Vec3> sigma;  // the variance head's per-axis standard deviation (m/s^2)
 };
 
 bool isNeuroBem(const std::string& path) {
@@ -49,9 +54,32 @@ Vec3 neuroBemAt(const std::vector<hdvio::io::NeuroBemForceSample>& s, hdvio::Tim
   return (1.0 - a) * lo->force + a * hi->force;
 }
 
+// "a,b,c" with non-negative numbers (flag_name for the message).
+Vec3 coefficientsFlag(const std::string& value, const char* flag_name) {
+  if (value.empty()) return Vec3::Zero();
+  const auto parts = hdvio::train::splitList(value);
+  Vec3 c;
+  try {
+    if (parts.size() != 3) throw std::invalid_argument("count");
+    for (int i = 0; i < 3; ++i) c(i) = std::stod(parts[i]);
+  } catch (const std::exception&) {
+    throw hdvio::InputError("", 0, std::string("--") + flag_name + " needs three numbers x,y,z");
+  }
+  if (!(c.minCoeff() >= 0.0)) throw hdvio::InputError("", 0, std::string("--") + flag_name + ": negative coefficient");
+  return c;
+}
+
 void printRow(const char* name, const std::vector<Vec3>& pred, const std::vector<Vec3>& meas, double mass) {
   const auto r = hdvio::learned::forceRmse(pred, meas, mass);
   std::printf("| %-28s | %8.4f | %8.4f | %8.4f |\n", name, r.f, r.f_xy, r.f_z);
+}
+
+void printCoverage(const Series& s) {
+  const auto c = hdvio::learned::sigmaCoverage(s.tcn, s.sigma, s.measured);
+  std::printf("variance head (sigma x %.4g): %.1f %% of %zu error components within 1 sigma, %.1f %% within "
+              "2 sigma (calibrated: 68.3 / 95.4); sigma quantile 68.3 %%: %.4g\n", FLAGS_sigma_scale,
+              100.0 * c.within_1_sigma, c.components, 100.0 * c.within_2_sigma,
+              hdvio::learned::sigmaQuantile(s.tcn, s.sigma, s.measured, 0.683));
 }
 
 }  // namespace
@@ -82,6 +110,12 @@ int main(int argc, char** argv) {
       if (std::abs(tcn->architecture().sample_rate_hz - FLAGS_rate_hz) > 1e-6) {
         throw hdvio::InputError(FLAGS_weights, 0, "network rate differs from --rate_hz");
       }
+    }
+    if (!(FLAGS_sigma_scale > 0.0)) throw hdvio::InputError("", 0, "--sigma_scale must be positive");
+    if (!FLAGS_drag_linear.empty() || !FLAGS_drag_quadratic.empty()) {
+      if (tcn) throw hdvio::InputError(FLAGS_weights, 0, "give the drag law by --weights or by --drag_* flags, not both");
+      drag.linear = coefficientsFlag(FLAGS_drag_linear, "drag_linear");
+      drag.quadratic = coefficientsFlag(FLAGS_drag_quadratic, "drag_quadratic");
     }
     hdvio::train::FlightSource source;
     source.data_root = FLAGS_data_root;
@@ -115,13 +149,18 @@ int main(int argc, char** argv) {
       const auto n = static_cast<double>(f.size());
       const std::size_t k0 = std::max<std::size_t>(warmup, static_cast<std::size_t>(FLAGS_begin_fraction * n));
       const std::size_t k1 = static_cast<std::size_t>(FLAGS_end_fraction * n);
+      const bool variance = tcn && tcn->architecture().variance_head;
       Series s;
       for (std::size_t k = k0; k < k1; ++k) {
         s.measured.push_back(f.force[k]);
         s.thrust.push_back(f.thrust[k]);
         Vec3 r = tcn ? Vec3(residual.col(k).head<3>().cast<double>()) : Vec3::Zero();
-        if (drag.enabled()) r += drag.force(f.q_WB[k].conjugate() * f.v_W[k]);  // at the true velocity
-        s.tcn.push_back(f.thrust[k] + r);
+        // The law at the recorded (ground-truth) velocity: it then uses part of the state.
+        const Vec3 law = drag.force(f.q_WB[k].conjugate() * f.v_W[k]);
+        s.law.push_back(f.thrust[k] + law);
+        s.tcn.push_back(f.thrust[k] + law + r);
+        if (variance)
+          s.sigma.push_back(FLAGS_sigma_scale * (0.5 * residual.col(k).tail<3>().cast<double>()).array().exp());
         if (neurobem) s.neurobem.push_back(neuroBemAt(nb, f.t[k]) / mass);
         if (csv.is_open()) {
           csv << hdvio::toSeconds(f.t[k]);
@@ -135,17 +174,22 @@ int main(int argc, char** argv) {
                   FLAGS_rate_hz, FLAGS_begin_fraction, FLAGS_end_fraction);
       std::printf("| %-28s | %8s | %8s | %8s |\n|---|---|---|---|\n", "model", "F", "F_xy", "F_z");
       printRow("thrust model", s.thrust, s.measured, mass);
+      if (drag.enabled()) printRow("thrust + drag law (true v)", s.law, s.measured, mass);
       if (tcn) printRow(model_label, s.tcn, s.measured, mass);
       if (neurobem) printRow("NeuroBEM (full state)", s.neurobem, s.measured, mass);
-      for (std::vector<Vec3> Series::*v : {&Series::measured, &Series::thrust, &Series::tcn, &Series::neurobem})
+      if (variance) printCoverage(s);
+      for (std::vector<Vec3> Series::*v : {&Series::measured, &Series::thrust, &Series::law, &Series::tcn,
+                                           &Series::neurobem, &Series::sigma})
         (all.*v).insert((all.*v).end(), (s.*v).begin(), (s.*v).end());
     }
     std::printf("\nall flights: %zu samples, RMSE in %s (body frame)\n", all.measured.size(),
                 FLAGS_mass > 0.0 ? "N" : "m/s^2 (mass-normalized)");
     std::printf("| %-28s | %8s | %8s | %8s |\n|---|---|---|---|\n", "model", "F", "F_xy", "F_z");
     printRow("thrust model", all.thrust, all.measured, mass);
+    if (drag.enabled()) printRow("thrust + drag law (true v)", all.law, all.measured, mass);
     if (tcn) printRow(model_label, all.tcn, all.measured, mass);
     if (all_neurobem) printRow("NeuroBEM (full state)", all.neurobem, all.measured, mass);
+    if (!all.sigma.empty()) printCoverage(all);
   } catch (const hdvio::InputError& e) {
     std::cerr << "error: " << e.what() << std::endl;
     return hdvio::kExitBadInput;

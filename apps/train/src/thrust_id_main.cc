@@ -17,17 +17,6 @@ DEFINE_bool(fit_drag, false, "also fit linear drag d (drag = -d .* v_body)");
 DEFINE_double(begin_fraction, 0.0, "use rotor samples from this fraction of each flight ...");
 DEFINE_double(end_fraction, 1.0, "... up to this fraction (hold out the rest)");
 
-namespace {
-
-hdvio::Sequence cut(const hdvio::Sequence& s, double begin, double end) {
-  hdvio::Sequence out = s;
-  const std::size_t n = s.rotor.size();
-  out.rotor.assign(s.rotor.begin() + static_cast<long>(begin * n), s.rotor.begin() + static_cast<long>(end * n));
-  return out;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   hdvio::parseToolFlags(&argc, &argv, __FILE__,
       "usage: hdvio_thrust_id --data_root <dir> --data <flight>[,<flight>...] [--mass m]\n"
@@ -41,22 +30,16 @@ int main(int argc, char** argv) {
     if (!(FLAGS_begin_fraction >= 0.0 && FLAGS_begin_fraction < FLAGS_end_fraction && FLAGS_end_fraction <= 1.0)) {
       throw hdvio::InputError("", 0, "need 0 <= --begin_fraction < --end_fraction <= 1");
     }
-    hdvio::Sequence all;
+    std::vector<hdvio::Sequence> flights;
     hdvio::train::FlightSource source;
     source.data_root = FLAGS_data_root;
     for (const auto& path : hdvio::train::splitList(FLAGS_data)) {
-      const hdvio::Sequence s = cut(hdvio::train::loadSequence(path, source), FLAGS_begin_fraction, FLAGS_end_fraction);
-      // Flights are fitted jointly; their clocks may overlap, so each is shifted after the last.
-      const hdvio::Timestamp shift = all.imu.empty() ? 0 : all.imu.back().t + hdvio::kNanosPerSecond - s.imu.front().t;
-      for (auto r : s.rotor) { r.t += shift; all.rotor.push_back(r); }
-      for (auto m : s.imu) { m.t += shift; all.imu.push_back(m); }
-      for (auto g : s.groundtruth) { g.t += shift; all.groundtruth.push_back(g); }
-      std::printf("%s: %zu rotor samples\n", path.c_str(), s.rotor.size());
+      flights.push_back(hdvio::train::loadSequence(path, source));
+      std::printf("%s: %zu rotor samples\n", path.c_str(), flights.back().rotor.size());
     }
-    all.name = "joint fit";
     hdvio::learned::ThrustFitOptions options;
     options.fit_linear_drag = FLAGS_fit_drag;
-    const hdvio::learned::ThrustFit fit = hdvio::learned::fitThrust(all, options);
+    const hdvio::learned::ThrustFit fit = hdvio::learned::fitThrustJointly(flights, options, FLAGS_begin_fraction, FLAGS_end_fraction);
     std::printf("samples            %zu\n", fit.samples);
     std::printf("C_T/m              %.6e m s^-2 / (rad/s)^2\n", fit.c_over_m);
     if (FLAGS_mass > 0.0) std::printf("C_T (m = %.4f kg) %.6e N s^2 rad^-2\n", FLAGS_mass, fit.thrustCoefficient(FLAGS_mass));

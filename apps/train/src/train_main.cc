@@ -2,15 +2,19 @@
 // (HDVIO Eq. 7) and exports it in the Eigen weight format (tcn_weight_file.h).
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include <gflags/gflags.h>
+#include <yaml-cpp/yaml.h>
 
 #include "hdvio/core/config.h"
 #include "hdvio/core/drag_law.h"
 #include "hdvio/core/error.h"
 #include "hdvio/core/tool_flags.h"
+#include "hdvio/learned/flight_folds.h"
 #include "hdvio/learned/tcn_weight_file.h"
+#include "hdvio/learned/thrust_identification.h"
 #include "hdvio/learned/torch/trainer.h"
 #include "hdvio/train/flight_loading.h"
 #include "hdvio/train/training_config.h"
@@ -19,6 +23,12 @@ DEFINE_string(config, "", "training YAML (config/learned/train_*.yaml)");
 DEFINE_string(out, "", "output weight file (.tcn)");
 DEFINE_string(data_root, "../shared/data", "prefix for relative data paths of the config");
 DEFINE_string(checkpoint_dir, "", "optional folder for checkpoint.pt and best.tcn");
+DEFINE_int32(hold_out, -1, "leave-one-flight-out fold: train without data.train[i] (never read)");
+DEFINE_bool(list_flights, false, "print data.train, one flight per line (the folds), and exit");
+DEFINE_string(effective_config, "",
+              "write the resolved config (fold flights, thrust coefficient, fitted drag law) here");
+DEFINE_bool(fit_only, false,
+            "refit the thrust coefficient and the drag law, write --effective_config, do not train");
 
 namespace {
 
@@ -66,6 +76,8 @@ learned::TrainOptions readTraining(const ConfigReader& t) {
   t.readInRange("segment_seconds", &o.segment_seconds, 0.01, 10.0);
   t.readInRange("gyro_bias_sigma", &o.gyro_bias_sigma, 0.0, 1.0);
   t.readInRange("variance_weight", &o.variance_weight, 0.0, 100.0);
+  t.readInRange("weight_decay", &o.weight_decay, 0.0, 1.0);
+  t.readInRange("thrust_scale_sigma", &o.thrust_scale_sigma, 0.0, 0.5);
   t.finish();
   return o;
 }
@@ -86,6 +98,29 @@ DragLaw fitDragLawOn(const std::vector<learned::FlightSamples>& flights) {
   return fitDragLaw(u, f);
 }
 
+// The config as this run used it: the fold's training flights and the thrust coefficient it
+// refitted, so the run can be repeated with plain hdvio_train --config.
+void writeEffectiveConfig(const std::string& path, const std::string& comment,
+                          const std::vector<std::string>& train_paths, double thrust_coefficient,
+                          const DragLaw& drag) {
+  YAML::Node n = YAML::LoadFile(FLAGS_config);
+  n["data"]["train"] = train_paths;
+  n["data"].remove("refit_thrust_coefficient");
+  n["data"]["thrust_coefficient"] = thrust_coefficient;
+  if (drag.enabled()) {
+    n["model"]["drag_law"] = "given";
+    n["model"]["drag_linear"] = std::vector<double>{drag.linear.x(), drag.linear.y(), drag.linear.z()};
+    n["model"]["drag_quadratic"] =
+        std::vector<double>{drag.quadratic.x(), drag.quadratic.y(), drag.quadratic.z()};
+  }
+  YAML::Emitter e;
+  e.SetDoublePrecision(9);
+  e << n;
+  std::ofstream out(path);
+  out << "# " << comment << "\n" << e.c_str() << "\n";
+  if (!out) throw InputError(path, 0, "cannot write the effective config");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -93,7 +128,7 @@ int main(int argc, char** argv) {
       "usage: hdvio_train --config <train.yaml> --out <weights.tcn>\n"
       "trains the residual-force TCN (libtorch)\n"
       "example: hdvio_train --config config/learned/train_neurobem.yaml --out neurobem.tcn");
-  if (FLAGS_config.empty() || FLAGS_out.empty()) {
+  if (FLAGS_config.empty() || (FLAGS_out.empty() && !FLAGS_list_flights && !FLAGS_fit_only)) {
     std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
     return kExitBadInput;
   }
@@ -103,9 +138,15 @@ int main(int argc, char** argv) {
     std::vector<std::string> train_paths, validation_paths;
     data.read("train", &train_paths);
     data.readOptional("validation", &validation_paths);
+    if (FLAGS_list_flights) {
+      for (const auto& p : train_paths) std::cout << p << "\n";
+      return 0;
+    }
     double block_seconds = 5.0, thrust_coefficient = 0.0, mass = 0.0;
     int validation_every = 0;
     double use_until = 1.0;
+    bool refit_thrust = false;
+    data.readOptional("refit_thrust_coefficient", &refit_thrust);
     data.readInRange("use_until", &use_until, 0.05, 1.0);
     data.readInRange("validation_block_seconds", &block_seconds, 0.5, 1000.0);
     data.readInRange("validation_every", &validation_every, 0, 1000);
@@ -120,6 +161,26 @@ int main(int argc, char** argv) {
     if (train_paths.empty()) throw InputError(FLAGS_config, 0, "data.train lists no flights");
     if (validation_paths.empty() && validation_every < 2) {
       throw InputError(FLAGS_config, 0, "give data.validation flights or data.validation_every >= 2");
+    }
+    std::string fold_note = "all flights of data.train";
+    if (FLAGS_hold_out >= 0) {
+      try {
+        const learned::FlightFold fold = learned::leaveOneFlightOut(train_paths, FLAGS_hold_out);
+        train_paths = fold.train;
+        fold_note = "fold " + std::to_string(FLAGS_hold_out) + ", held out: " + fold.test;
+      } catch (const std::invalid_argument& e) {
+        throw InputError(FLAGS_config, 0, std::string("--hold_out: ") + e.what());
+      }
+      std::cout << fold_note << "\n";
+    }
+    if (refit_thrust) {  // C_T from the (fold's) training flights only, as hdvio_thrust_id does
+      if (!(mass > 0.0)) throw InputError(FLAGS_config, 0, "data.refit_thrust_coefficient needs data.mass");
+      std::vector<Sequence> sequences;
+      train::FlightSource raw;
+      raw.data_root = FLAGS_data_root;
+      for (const auto& p : train_paths) sequences.push_back(train::loadSequence(p, raw));
+      thrust_coefficient = learned::fitThrustJointly(sequences, {}, 0.0, use_until).thrustCoefficient(mass);
+      std::printf("thrust coefficient %.6e N s^2 rad^-2 (refit on the training flights)\n", thrust_coefficient);
     }
     options.checkpoint_dir = FLAGS_checkpoint_dir;
     if (!options.checkpoint_dir.empty()) std::filesystem::create_directories(options.checkpoint_dir);
@@ -148,6 +209,9 @@ int main(int argc, char** argv) {
                 << vecString(drag.quadratic) << (fit_drag ? " (fitted on the training part)" : "")
                 << "\n";
     options.drag = drag;
+    if (!FLAGS_effective_config.empty())
+      writeEffectiveConfig(FLAGS_effective_config, fold_note, train_paths, thrust_coefficient, drag);
+    if (FLAGS_fit_only) return 0;
     learned::Trainer trainer(arch, options);
     const learned::TrainingResult result = trainer.train(train_flights, validation_flights, std::cout);
     const auto& first = result.history.front();

@@ -32,6 +32,12 @@ struct ThrustFit {
 // InputError when the sequence lacks rotor speeds or IMU, or fewer than 100 samples remain.
 ThrustFit fitThrust(const Sequence& sequence, const ThrustFitOptions& options = {});
 
+// One fit over several flights (their clocks may overlap: each is shifted to start after the
+// previous one ends), using the rotor samples in [begin, end) of each flight's rotor stream.
+// This is the thrust model of a cross-validation fold: fitted on its training flights only.
+ThrustFit fitThrustJointly(const std::vector<Sequence>& flights, const ThrustFitOptions& options = {},
+                           double begin = 0.0, double end = 1.0);
+
 // The fitted model's mass-normalized force for one rotor sample and body velocity.
 Vec3 predictFittedForce(const ThrustFit& fit, const Eigen::Vector4d& speeds, const Vec3& v_body);
 
