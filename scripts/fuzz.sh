@@ -72,8 +72,8 @@ for t in "${targets[@]}"; do
   log="$build/logs/$t.log"
   runs=$(awk '/^stat::number_of_executed_units:/ {v = $2} END {print v}' "$log")
   speed=$(awk '/^stat::average_exec_per_sec:/ {v = $2} END {print v}' "$log")
-  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | awk '{print $2}')
-  ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | awk '{print $2}')
+  cov=$( (grep -o 'cov: [0-9]*' "$log" || true) | tail -1 | awk '{print $2}')  # none if it died at once
+  ft=$( (grep -o 'ft: [0-9]*' "$log" || true) | tail -1 | awk '{print $2}')
   n=$(find "$build/crashes/$t" -type f -newer "$started" \( -name 'crash-*' -o -name 'timeout-*' -o -name 'oom-*' -o -name 'leak-*' \) | wc -l)
   printf '%-20s %12s %8s %8s %8s %s\n' "$t" "${runs:-?}" "${speed:-?}" "${cov:-?}" "${ft:-?}" "$n"
   # The HDF5 readers run libhdf5 in a child process (core/io/src/hdf5_snapshot.h): its crashes

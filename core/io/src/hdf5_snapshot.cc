@@ -121,7 +121,8 @@ std::string encode(Status status, const std::vector<Hdf5Entry>& entries) {
     put(&out, e.rows);
     put(&out, e.cols);
     put(&out, e.values.size());
-    out.append(reinterpret_cast<const char*>(e.values.data()), e.values.size() * sizeof(double));
+    if (!e.values.empty())
+      out.append(reinterpret_cast<const char*>(e.values.data()), e.values.size() * sizeof(double));
   }
   return out;
 }
@@ -141,6 +142,7 @@ class Decoder {
     return s;
   }
   void take(void* dst, std::size_t n) {
+    if (n == 0) return;  // dst may be an empty vector's null data()
     if (n > bytes_.size() - at_) throw std::runtime_error("HDF5 reader: truncated result from the child process");
     std::memcpy(dst, bytes_.data() + at_, n);
     at_ += n;
