@@ -107,7 +107,7 @@ TEST(InertialStreaming, ModelEkfFedSampleBySampleEqualsTheWholeFlightRun) {
   const std::vector<ImuSample> imu = span(seq, 20.0);
   const NavState init = groundTruthState(seq, imu.front().t);
   imo::DragModel drag;  // thrust and a plausible linear drag: any model shows the equality
-  drag.linear_drag = Vec3(0.3, 0.3, 0.1);
+  drag.drag.linear = Vec3(0.3, 0.3, 0.1);
   InertialEstimatorOptions options;
   options.source_needs_thrust = true;
   const Vec3 sigma = options.run.measurement_sigma;

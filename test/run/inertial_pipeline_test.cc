@@ -12,6 +12,7 @@
 #include "../common/blackbird_val.h"
 #include "hdvio/core/error.h"
 #include "hdvio/io/sequence_reader.h"
+#include "hdvio/pipeline/displacement_network_source.h"
 #include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
 
@@ -144,9 +145,10 @@ TEST(ImoPipeline, ReleaseFirstWindowSampleRepeatsTheSecondSampleInTheFirstWindow
   replaced.imu[0].t = t0;
   thrust_replaced[0] = thrust[1];
   thrust_replaced[0].t = t0;
-  const auto repeating = makeNetworkDisplacementSource(model, seq, thrust, t0);
-  const auto plain = makeNetworkDisplacementSource(model, seq, thrust);
-  const auto reference = makeNetworkDisplacementSource(model, replaced, thrust_replaced);
+  auto shared = [](const auto& v) { return std::make_shared<const std::decay_t<decltype(v)>>(v); };
+  const auto repeating = networkDisplacementSource(model, shared(seq.imu), shared(thrust), t0);
+  const auto plain = networkDisplacementSource(model, shared(seq.imu), shared(thrust));
+  const auto reference = networkDisplacementSource(model, shared(replaced.imu), shared(thrust_replaced));
   auto request = [&](Timestamp t_end) {
     imo::DisplacementRequest r;
     r.t_end = t_end;

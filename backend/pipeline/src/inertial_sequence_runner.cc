@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "hdvio/backend/imo/imo_run_support.h"
+#include "hdvio/core/thread_clock.h"
 
 namespace hdvio {
 
@@ -16,7 +17,7 @@ imo::ImoRunOutput runInertialOnSequence(const Sequence& seq, const std::vector<T
     throw std::invalid_argument("IMO run: the initial time is not an IMU sample time");
   InertialEstimator est(options, source);
   est.stopAfter(span.back().t);
-  const double t_run = imo::threadCpuSeconds();
+  const double t_run = threadCpuSeconds();
   std::size_t j = 0;  // thrust up to each IMU sample's time first
   for (const ImuSample& s : seq.imu) {
     while (j < thrust.size() && thrust[j].t <= s.t) est.addThrust(thrust[j++]);
@@ -28,7 +29,7 @@ imo::ImoRunOutput runInertialOnSequence(const Sequence& seq, const std::vector<T
   if (!est.initialized()) throw std::invalid_argument("IMO run: the initial time is not an IMU sample time");
   est.finish();
   imo::ImoRunOutput out = std::move(est.output());
-  const double total = imo::threadCpuSeconds() - t_run;
+  const double total = threadCpuSeconds() - t_run;
   if (options.network_only) {
     out.propagation_s = total - out.source_s;  // with concatenation and output
   } else {

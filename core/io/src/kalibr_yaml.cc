@@ -13,23 +13,7 @@ void readCamera(const YamlFields& file, KalibrCalibration* out) {
                        "rostopic", "T_cam_imu", "T_imu_cam", "timeshift_cam_imu", "cam_overlaps"});
   CameraCalibration c;
   c.file = y.path();
-  const std::string camera_model = y.text("camera_model");
-  if (camera_model != "pinhole")
-    y.fail(y.node("camera_model"), "camera_model", "unsupported '" + camera_model + "' (expected pinhole)");
-  const std::vector<double> k = y.numbers("intrinsics", 4);
-  c.fu = k[0];
-  c.fv = k[1];
-  c.cu = k[2];
-  c.cv = k[3];
-  if (c.fu <= 0 || c.fv <= 0 || c.cu <= 0 || c.cv <= 0)
-    y.fail(y.node("intrinsics"), "intrinsics", "fu, fv, pu, pv must be positive");
-  const std::vector<double> res = y.numbers("resolution", 2);
-  for (double r : res) {
-    if (!(r >= 1.0 && r <= 1e6 && r == static_cast<double>(static_cast<long>(r))))
-      y.fail(y.node("resolution"), "resolution", "expected two positive integers");
-  }
-  c.width = static_cast<int>(res[0]);
-  c.height = static_cast<int>(res[1]);
+  readPinhole(y, &c);
   const std::string model = y.text("distortion_model");
   if (model == "radtan") {
     c.distortion = DistortionModel::kRadialTangential;

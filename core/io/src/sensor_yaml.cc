@@ -36,6 +36,27 @@ const char* distortionName(DistortionModel model) {
   return "none";
 }
 
+void readPinhole(const YamlFields& y, CameraCalibration* c) {
+  const std::vector<double> res = y.numbers("resolution", 2);
+  // Checked before the cast: a double beyond int's range does not convert.
+  for (double r : res) {
+    if (!(r >= 1.0 && r <= 1e6 && r == std::floor(r)))
+      y.fail(y.node("resolution"), "resolution", "expected two positive integers");
+  }
+  c->width = static_cast<int>(res[0]);
+  c->height = static_cast<int>(res[1]);
+  const std::string camera_model = y.text("camera_model");
+  if (camera_model != "pinhole")
+    y.fail(y.node("camera_model"), "camera_model", "unsupported '" + camera_model + "' (expected pinhole)");
+  const std::vector<double> k = y.numbers("intrinsics", 4);
+  c->fu = k[0];
+  c->fv = k[1];
+  c->cu = k[2];
+  c->cv = k[3];
+  if (c->fu <= 0 || c->fv <= 0 || c->cu <= 0 || c->cv <= 0)
+    y.fail(y.node("intrinsics"), "intrinsics", "fu, fv, cu, cv must be positive");
+}
+
 ImuCalibration readImuSensorYaml(const std::string& path) {
   const YamlFields y(path);
   ImuCalibration c;
@@ -59,24 +80,7 @@ CameraCalibration readCameraSensorYaml(const std::string& path) {
   c.file = path;
   c.T_BS = y.transform("T_BS");
   c.rate_hz = y.number("rate_hz");
-  const std::vector<double> res = y.numbers("resolution", 2);
-  // Checked before the cast: a double beyond int's range does not convert.
-  for (double r : res) {
-    if (!(r >= 1.0 && r <= 1e6 && r == std::floor(r)))
-      y.fail(y.node("resolution"), "resolution", "expected two positive integers");
-  }
-  c.width = static_cast<int>(res[0]);
-  c.height = static_cast<int>(res[1]);
-  const std::string camera_model = y.text("camera_model");
-  if (camera_model != "pinhole")
-    y.fail(y.node("camera_model"), "camera_model", "unsupported '" + camera_model + "' (expected pinhole)");
-  const std::vector<double> k = y.numbers("intrinsics", 4);
-  c.fu = k[0];
-  c.fv = k[1];
-  c.cu = k[2];
-  c.cv = k[3];
-  if (c.fu <= 0 || c.fv <= 0 || c.cu <= 0 || c.cv <= 0)
-    y.fail(y.node("intrinsics"), "intrinsics", "fu, fv, cu, cv must be positive");
+  readPinhole(y, &c);
   if (c.rate_hz <= 0.0) y.fail(y.node("rate_hz"), "rate_hz", "must be positive");
 
   const std::string model = y.has("distortion_model") ? y.text("distortion_model") : "none";

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "hdvio/core/sequence.h"
+#include "yaml_fields.h"
 
 namespace hdvio::io {
 
@@ -16,6 +17,10 @@ Pose readSensorExtrinsics(const std::string& path);
 std::string imuSensorYaml(const ImuCalibration& calib);
 std::string cameraSensorYaml(const CameraCalibration& calib);
 std::string rotorSensorYaml(const RotorCalibration& calib);
+
+// resolution, camera_model (pinhole only) and intrinsics [fu fv cu cv] of a camera map (ASL
+// sensor.yaml or Kalibr's cam0), shared by both readers.
+void readPinhole(const YamlFields& y, CameraCalibration* c);
 
 // Throws InputError unless the calibration is usable (positive intrinsics and size, the right
 // number of distortion coefficients for the model, finite values).
