@@ -105,60 +105,69 @@ std::vector<Hdf5Entry> readInProcess(const std::string& path, Status* status) {
   return entries;
 }
 
-void put(std::string* out, std::uint64_t v) { out->append(reinterpret_cast<const char*>(&v), sizeof v); }
-void put(std::string* out, const std::string& s) {
-  put(out, s.size());
-  out->append(s);
-}
-
-std::string encode(Status status, const std::vector<Hdf5Entry>& entries) {
-  std::string out;
-  put(&out, status);
-  put(&out, entries.size());
-  for (const Hdf5Entry& e : entries) {
-    put(&out, e.name);
-    put(&out, e.problem);
-    put(&out, e.rows);
-    put(&out, e.cols);
-    put(&out, e.values.size());
-    if (!e.values.empty())
-      out.append(reinterpret_cast<const char*>(e.values.data()), e.values.size() * sizeof(double));
-  }
-  return out;
-}
-
-// Decodes what the child wrote (trusted: the same program wrote it).
-class Decoder {
- public:
-  explicit Decoder(const std::string& bytes) : bytes_(bytes) {}
-  std::uint64_t u64() {
-    std::uint64_t v = 0;
-    take(&v, sizeof v);
-    return v;
-  }
-  std::string text() {
-    std::string s(u64(), '\0');
-    take(s.data(), s.size());
-    return s;
-  }
-  void take(void* dst, std::size_t n) {
-    if (n == 0) return;  // dst may be an empty vector's null data()
-    if (n > bytes_.size() - at_) throw std::runtime_error("HDF5 reader: truncated result from the child process");
-    std::memcpy(dst, bytes_.data() + at_, n);
-    at_ += n;
-  }
-
- private:
-  const std::string& bytes_;
-  std::size_t at_ = 0;
-};
-
-bool writeAll(int fd, const std::string& bytes) {
-  for (std::size_t done = 0; done < bytes.size();) {
-    const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
+bool writeAll(int fd, const void* data, std::size_t size) {
+  const char* bytes = static_cast<const char*>(data);
+  for (std::size_t done = 0; done < size;) {
+    const ssize_t n = write(fd, bytes + done, size - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) return false;
     done += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+bool writeU64(int fd, std::uint64_t v) { return writeAll(fd, &v, sizeof v); }
+bool writeText(int fd, const std::string& s) { return writeU64(fd, s.size()) && writeAll(fd, s.data(), s.size()); }
+
+// The child's answer, streamed: no second copy of the values in either process.
+bool writeSnapshot(int fd, Status status, const std::vector<Hdf5Entry>& entries) {
+  bool ok = writeU64(fd, status) && writeU64(fd, entries.size());
+  for (const Hdf5Entry& e : entries) {
+    ok = ok && writeText(fd, e.name) && writeText(fd, e.problem) && writeU64(fd, e.rows) && writeU64(fd, e.cols) &&
+         writeU64(fd, e.values.size()) && writeAll(fd, e.values.data(), e.values.size() * sizeof(double));
+  }
+  return ok;
+}
+
+// Reads what the child wrote (trusted: the same program wrote it); false at an early end.
+class PipeReader {
+ public:
+  explicit PipeReader(int fd) : fd_(fd) {}
+  bool take(void* dst, std::size_t size) {
+    char* out = static_cast<char*>(dst);
+    for (std::size_t done = 0; done < size;) {
+      const ssize_t n = read(fd_, out + done, size - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      done += static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+  bool u64(std::uint64_t* v) { return take(v, sizeof *v); }
+  bool text(std::string* s) {
+    std::uint64_t n = 0;
+    if (!u64(&n)) return false;
+    s->resize(n);
+    return take(s->data(), n);
+  }
+
+ private:
+  int fd_;
+};
+
+bool readSnapshot(int fd, std::uint64_t* status, std::vector<Hdf5Entry>* entries) {
+  PipeReader in(fd);
+  std::uint64_t count = 0;
+  if (!in.u64(status) || !in.u64(&count)) return false;
+  for (std::uint64_t i = 0; i < count; ++i) {
+    Hdf5Entry e;
+    std::uint64_t rows = 0, cols = 0, values = 0;
+    if (!in.text(&e.name) || !in.text(&e.problem) || !in.u64(&rows) || !in.u64(&cols) || !in.u64(&values))
+      return false;
+    e.rows = rows;
+    e.cols = cols;
+    e.values.resize(values);
+    if (!in.take(e.values.data(), values * sizeof(double))) return false;
+    entries->push_back(std::move(e));
   }
   return true;
 }
@@ -183,17 +192,12 @@ std::vector<Hdf5Entry> readHdf5Snapshot(const std::string& path) {
     } catch (...) {
       _exit(3);
     }
-    _exit(writeAll(fds[1], encode(status, entries)) ? 0 : 4);
+    _exit(writeSnapshot(fds[1], status, entries) ? 0 : 4);
   }
   close(fds[1]);
-  std::string bytes;
-  char buf[1 << 16];
-  for (;;) {
-    const ssize_t n = read(fds[0], buf, sizeof buf);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    bytes.append(buf, static_cast<std::size_t>(n));
-  }
+  std::uint64_t status = kOk;
+  std::vector<Hdf5Entry> entries;
+  const bool complete = readSnapshot(fds[0], &status, &entries);
   close(fds[0]);
   int wstatus = 0;
   while (waitpid(child, &wstatus, 0) < 0 && errno == EINTR) {
@@ -204,19 +208,9 @@ std::vector<Hdf5Entry> readHdf5Snapshot(const std::string& path) {
   if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0)
     throw InputError(path, 0, "cannot read HDF5 file (its reader process failed with code " +
                                   std::to_string(WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : -1) + ")");
-  Decoder in(bytes);
-  const std::uint64_t status = in.u64();
+  if (!complete) throw std::runtime_error("HDF5 reader: truncated result from the child process");
   if (status == kNotHdf5) throw InputError(path, 0, "not an HDF5 file");
   if (status == kCannotOpen) throw InputError(path, 0, "cannot open HDF5 file");
-  std::vector<Hdf5Entry> entries(in.u64());
-  for (Hdf5Entry& e : entries) {
-    e.name = in.text();
-    e.problem = in.text();
-    e.rows = in.u64();
-    e.cols = in.u64();
-    e.values.resize(in.u64());
-    in.take(e.values.data(), e.values.size() * sizeof(double));
-  }
   return entries;
 }
 
