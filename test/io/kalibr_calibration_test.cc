@@ -166,6 +166,8 @@ TEST_F(KalibrCalibration, BadFilesNameTheFileAndLine) {
   expectInputError([&] { withKalibr(both); }, camchain_, 7, "unknown key 'line_delay'");
   write(camchain_, replaced("distortion_model: radtan", "distortion_model: fov"));
   expectInputError([&] { withKalibr(both); }, camchain_, 4, "unsupported 'fov'");
+  write(camchain_, good + "  timeshift_cam_imu: 1e300\n");
+  expectInputError([&] { withKalibr(both); }, camchain_, 14, "within +-1 s");
   write(camchain_, good.substr(0, good.find("  T_cam_imu")));
   expectInputError([&] { withKalibr(both); }, camchain_, 2, "no camera-IMU extrinsics");
   write(camchain_, replaced("- [0, 0, 0, 1]", "- [0, 0, 1, 1]"));

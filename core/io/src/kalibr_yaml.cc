@@ -1,5 +1,7 @@
 #include "kalibr_yaml.h"
 
+#include <cmath>
+
 #include "hdvio/core/error.h"
 #include "sensor_yaml.h"
 #include "yaml_fields.h"
@@ -41,7 +43,12 @@ void readCamera(const YamlFields& file, KalibrCalibration* out) {
                      "cam0 has no camera-IMU extrinsics (T_cam_imu): pass the camchain-imucam yaml written by "
                      "kalibr_calibrate_imu_camera");
   }
-  if (y.has("timeshift_cam_imu")) out->timeshift_cam_imu = y.number("timeshift_cam_imu");
+  if (y.has("timeshift_cam_imu")) {
+    out->timeshift_cam_imu = y.number("timeshift_cam_imu");
+    // Kalibr's estimates are milliseconds; a larger value is a wrong file (and would overflow ns).
+    if (std::abs(out->timeshift_cam_imu) > 1.0)
+      y.fail(y.node("timeshift_cam_imu"), "timeshift_cam_imu", "must be within +-1 s");
+  }
   out->camera = c;
   if (file.has("cam1")) out->warnings.push_back(y.path() + ": only cam0 is used (the pipelines are monocular)");
 }
