@@ -154,7 +154,7 @@ std::vector<Seed> DepthFilter::update(const Frame& frame) {
     Vec2 px_cur;
     Vec2 px_check;
     if (!camera_.project(T_cur_ref * (s.feature.f * s.depth()), &px_check) ||
-        !camera_.isInFrame(px_check, 8.0)) {
+        !camera_.inImage(px_check, 8.0)) {
       ++it;
       continue;
     }

@@ -7,7 +7,7 @@
 
 namespace hdvio::frontend {
 
-Eigen::Matrix2d affineWarp(const Camera& camera, const Vec2& px_ref, const Vec3& f_ref,
+Eigen::Matrix2d affineWarp(const CameraModel& camera, const Vec2& px_ref, const Vec3& f_ref,
                            double depth_ref, int level_ref, const Pose& T_cur_ref) {
   const double offset = kAlignHalf * (1 << level_ref);
   const Vec3 xyz_ref = f_ref * depth_ref;

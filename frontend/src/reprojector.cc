@@ -28,7 +28,7 @@ const Landmark::Observation* closestView(const Landmark& lm, const Vec3& center_
   return best_cos > 0.5 ? best : nullptr;  // beyond 60 degrees the patch looks too different
 }
 
-bool alignToFrame(const Camera& camera, const Landmark& lm, const Landmark::Observation& obs,
+bool alignToFrame(const CameraModel& camera, const Landmark& lm, const Landmark::Observation& obs,
                   Frame* frame, Vec2* px, int* level_out) {
   const Frame& kf = *obs.keyframe;
   const Feature& ref = kf.features[obs.feature];
@@ -48,13 +48,13 @@ bool alignToFrame(const Camera& camera, const Landmark& lm, const Landmark::Obse
 
 }  // namespace
 
-ReprojectionStats reprojectMap(const Camera& camera, const FeatureGrid& grid, int max_features,
+ReprojectionStats reprojectMap(const CameraModel& camera, const FeatureGrid& grid, int max_features,
                                int landmark_max_failures, Map* map, Frame* frame) {
   ReprojectionStats stats;
   std::vector<std::vector<Candidate>> cells(grid.cells());
   for (auto& [id, lm] : map->landmarks) {
     Vec2 px;
-    if (!camera.project(frame->T_cw * lm->p_w, &px) || !camera.isInFrame(px, 8.0)) continue;
+    if (!camera.project(frame->T_cw * lm->p_w, &px) || !camera.inImage(px, 8.0)) continue;
     const int cell = grid.cellIndex(px);
     if (cell < 0) continue;
     cells[cell].push_back({lm.get(), px, lm->converged});

@@ -31,7 +31,7 @@ std::string toString(TrackingStage stage) {
 
 SemiDirectFrontend::SemiDirectFrontend(const CameraCalibration& calibration,
                                        FrontendOptions options)
-    : camera_(Camera::fromCalibration(calibration)),
+    : camera_(CameraModel::fromCalibration(calibration)),
       T_BS_(calibration.T_BS),
       options_(options),
       grid_(camera_.width(), camera_.height(), options.detector.cell_size),

@@ -19,7 +19,7 @@ struct RefPatches {
   std::vector<char> valid;                  // per point
 };
 
-RefPatches precompute(const Camera& camera, const cv::Mat& img, int level,
+RefPatches precompute(const CameraModel& camera, const cv::Mat& img, int level,
                       const std::vector<Vec3>& points) {
   RefPatches ref;
   const std::size_t n = points.size();
@@ -60,7 +60,7 @@ struct Normal {
   int patches = 0;
 };
 
-Normal accumulate(const Camera& camera, const cv::Mat& img, int level,
+Normal accumulate(const CameraModel& camera, const cv::Mat& img, int level,
                   const std::vector<Vec3>& points, const RefPatches& ref, const Pose& T,
                   double huber) {
   Normal n;
@@ -94,7 +94,7 @@ Normal accumulate(const Camera& camera, const cv::Mat& img, int level,
 
 }  // namespace
 
-SparseAlignmentResult alignSparse(const Camera& camera, const Pyramid& ref,
+SparseAlignmentResult alignSparse(const CameraModel& camera, const Pyramid& ref,
                                   const std::vector<Vec3>& points_ref, const Pyramid& cur,
                                   const Pose& T_cur_ref_guess,
                                   const std::optional<Quat>& rotation_prior,

@@ -29,7 +29,7 @@ Values solve(const FactorGraph& graph, const Values& initial, bool landmarks_fir
 TEST(SchurOrdering, LandmarksFirstGivesTheSameSolution) {
   std::mt19937 rng(7);
   std::normal_distribution<double> n(0.0, 1.0);
-  const CameraModel camera(300.0, 300.0, 160.0, 120.0, DistortionModel::kNone, {});
+  const CameraModel camera(320, 240, 300.0, 300.0, 160.0, 120.0);
   const Pose T_BC;  // camera = body
   FactorGraph graph;
   Values initial;

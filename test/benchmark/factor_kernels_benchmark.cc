@@ -152,7 +152,7 @@ void BM_ReprojectionFactorEvaluate(benchmark::State& state) {
   std::vector<double> k;
   if (model == DistortionModel::kRadialTangential) k = {-0.28, 0.07, 2e-4, 2e-5};
   if (model == DistortionModel::kEquidistant) k = {-0.01, 0.02, -0.01, 0.003};
-  const CameraModel cam(458.0, 457.0, 367.0, 248.0, model, k, 752, 480);
+  const CameraModel cam(752, 480, 458.0, 457.0, 367.0, 248.0, model, k);
   Values v;
   v.insertPose(symbols::X(0), Pose(quatExp(Vec3(0.1, -0.2, 0.3)), Vec3(0.1, 0.2, -0.3)));
   const Pose T_WB = v.pose(symbols::X(0));

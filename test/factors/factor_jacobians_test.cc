@@ -80,7 +80,7 @@ TEST_P(ReprojectionJacobians, MatchNumerical) {
   std::vector<double> k;
   if (model == DistortionModel::kRadialTangential) k = {-0.28, 0.07, 2e-4, -3e-4};
   if (model == DistortionModel::kEquidistant) k = {-0.01, 0.02, -0.01, 0.003};
-  const CameraModel cam(458.0, 457.0, 367.0, 248.0, model, k, 752, 480);
+  const CameraModel cam(752, 480, 458.0, 457.0, 367.0, 248.0, model, k);
   std::mt19937 rng(21 + static_cast<int>(model));
   for (int trial = 0; trial < kTrials; ++trial) {
     const Pose T_WB = randomPose(rng);
@@ -103,7 +103,7 @@ INSTANTIATE_TEST_SUITE_P(AllModels, ReprojectionJacobians,
                                            DistortionModel::kEquidistant));
 
 TEST(ReprojectionFactor, PointBehindCameraIsInvalid) {
-  const CameraModel cam(458.0, 457.0, 367.0, 248.0, DistortionModel::kNone, {}, 752, 480);
+  const CameraModel cam(752, 480, 458.0, 457.0, 367.0, 248.0);
   Values v;
   v.insertPose(X(0), Pose());
   v.insertVector(L(0), Vec3(0.1, 0.2, -3.0));

@@ -30,7 +30,7 @@ TEST(FrontendDepthFilter, SeedUpdateConvergesAndResistsOutliers) {
 }
 
 TEST(FrontendDepthFilter, SeedsConvergeOnSimulatedFlight) {
-  const Camera camera = Camera::fromCalibration(test::syntheticCalibration());
+  const CameraModel camera = CameraModel::fromCalibration(test::syntheticCalibration());
   const test::SyntheticRoom room;
   auto kf = std::make_shared<Frame>();
   const Pose T_w_kf = test::lookingForward(Vec3(-2.0, 0.5, 1.4), 0.15, 0.2);

@@ -20,7 +20,7 @@ Pose cameraPoseAt(int k) {  // 20 Hz; ~0.8 m/s sideways/forward with yaw and som
 
 class FrontendSyntheticFlight : public ::testing::Test {
  protected:
-  FrontendSyntheticFlight() : camera_(Camera::fromCalibration(calibration())) {}
+  FrontendSyntheticFlight() : camera_(CameraModel::fromCalibration(calibration())) {}
   static CameraCalibration calibration() {
     CameraCalibration c = test::syntheticCalibration();
     c.T_BS = bodyToCameraExtrinsics();
@@ -37,7 +37,7 @@ class FrontendSyntheticFlight : public ::testing::Test {
     return p;
   }
   test::SyntheticRoom room_;
-  Camera camera_;
+  CameraModel camera_;
 };
 
 TEST_F(FrontendSyntheticFlight, TracksEveryImageAndConvergesNewLandmarks) {

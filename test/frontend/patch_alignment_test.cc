@@ -9,7 +9,7 @@ namespace hdvio::frontend {
 namespace {
 
 TEST(FrontendPatchAlignment, FindsShiftedPatchWithBrightnessChange) {
-  const Camera camera = Camera::fromCalibration(test::syntheticCalibration());
+  const CameraModel camera = CameraModel::fromCalibration(test::syntheticCalibration());
   const test::SyntheticRoom room;
   const Pose T = test::lookingForward(Vec3(0, 0, 1.5), 0.0, 0.2);
   cv::Mat ref = room.render(camera, T);
@@ -39,7 +39,7 @@ TEST(FrontendPatchAlignment, FindsShiftedPatchWithBrightnessChange) {
 }
 
 TEST(FrontendPatchAlignment, AffineWarpOfPureRotationAboutOpticalAxis) {
-  const Camera camera(752, 480, 450, 450, 376, 240);
+  const CameraModel camera(752, 480, 450, 450, 376, 240);
   // Rolling the camera by 30 degrees rotates patches by 30 degrees, whatever the depth.
   const Pose T_cur_ref(quatExp(Vec3(0, 0, M_PI / 6)), Vec3::Zero());
   const Vec2 px(376, 240);

@@ -40,7 +40,7 @@ TEST(FrontendSimDepthFilter, SeedsConvergeOntoTheRoomWalls) {
   const Sequence seq = io::readAsl(out.string());
   ASSERT_TRUE(seq.hasImages());
   ASSERT_GE(seq.images.size(), 18u);
-  const Camera camera = Camera::fromCalibration(*seq.camera);
+  const CameraModel camera = CameraModel::fromCalibration(*seq.camera);
 
   auto makeFrame = [&](std::size_t i) {
     auto f = std::make_shared<Frame>();

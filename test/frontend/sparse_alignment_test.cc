@@ -14,7 +14,7 @@ struct AlignmentCase {
   std::vector<Vec3> points_ref;
 };
 
-AlignmentCase makeCase(const Camera& camera, const test::SyntheticRoom& room, const Pose& T_w_ref,
+AlignmentCase makeCase(const CameraModel& camera, const test::SyntheticRoom& room, const Pose& T_w_ref,
                        const Pose& T_w_cur) {
   AlignmentCase c{T_w_ref, T_w_cur, buildPyramid(room.render(camera, T_w_ref), 5),
                   buildPyramid(room.render(camera, T_w_cur), 5), {}};
@@ -32,7 +32,7 @@ double rotationErrorDeg(const Pose& a, const Pose& b) {
 }
 
 TEST(FrontendSparseImageAlignment, RecoversKnownMotionFromIdentityGuess) {
-  const Camera camera = Camera::fromCalibration(test::syntheticCalibration());
+  const CameraModel camera = CameraModel::fromCalibration(test::syntheticCalibration());
   const test::SyntheticRoom room;
   const Pose T_w_ref = test::lookingForward(Vec3(-1.0, 0.3, 1.4), 0.1, 0.25);
   // 6 cm and 2 degrees between the images: a fast 20 Hz frame-to-frame motion.
@@ -52,7 +52,7 @@ TEST(FrontendSparseImageAlignment, RecoversKnownMotionFromIdentityGuess) {
 }
 
 TEST(FrontendSparseImageAlignment, LargeRotationWithGyroPrior) {
-  const Camera camera = Camera::fromCalibration(test::syntheticCalibration());
+  const CameraModel camera = CameraModel::fromCalibration(test::syntheticCalibration());
   const test::SyntheticRoom room;
   const Pose T_w_ref = test::lookingForward(Vec3(0.0, -1.0, 1.5), -0.2, 0.2);
   // 8 degrees of yaw in one image: beyond the basin of the coarsest level without a prior.
@@ -70,7 +70,7 @@ TEST(FrontendSparseImageAlignment, LargeRotationWithGyroPrior) {
 }
 
 TEST(FrontendSparseImageAlignment, ReportsFailureWithoutPoints) {
-  const Camera camera = Camera::fromCalibration(test::syntheticCalibration());
+  const CameraModel camera = CameraModel::fromCalibration(test::syntheticCalibration());
   const Pyramid pyr = buildPyramid(cv::Mat(480, 752, CV_8UC1, cv::Scalar(128)), 5);
   const SparseAlignmentResult r =
       alignSparse(camera, pyr, {}, pyr, Pose(), std::nullopt, SparseAlignmentOptions());

@@ -58,7 +58,7 @@ double SyntheticRoom::castRay(const Vec3& o, const Vec3& d, Vec3* hit) const {
   return best;
 }
 
-cv::Mat SyntheticRoom::render(const Camera& camera, const Pose& T_wc) const {
+cv::Mat SyntheticRoom::render(const CameraModel& camera, const Pose& T_wc) const {
   cv::Mat img(camera.height(), camera.width(), CV_8UC1);
   const Mat3 R = T_wc.R();
   for (int y = 0; y < img.rows; ++y) {
@@ -71,7 +71,7 @@ cv::Mat SyntheticRoom::render(const Camera& camera, const Pose& T_wc) const {
   return img;
 }
 
-double SyntheticRoom::depthAt(const Camera& camera, const Pose& T_wc, const Vec2& px) const {
+double SyntheticRoom::depthAt(const CameraModel& camera, const Pose& T_wc, const Vec2& px) const {
   const Vec3 f = camera.unproject(px);
   Vec3 hit;
   const double range = castRay(T_wc.p, T_wc.R() * f, &hit);

@@ -4,7 +4,7 @@
 
 #include "hdvio/core/lie.h"
 #include "hdvio/core/sequence.h"
-#include "hdvio/frontend/camera.h"
+#include "hdvio/core/camera_model.h"
 
 namespace hdvio::frontend::test {
 
@@ -16,9 +16,9 @@ class SyntheticRoom {
   // Distance along the ray from the camera center to the first wall; the ray is in world frame.
   double castRay(const Vec3& origin, const Vec3& dir, Vec3* hit) const;
   double intensity(const Vec3& p_w) const;  // 0..255
-  cv::Mat render(const Camera& camera, const Pose& T_wc) const;
+  cv::Mat render(const CameraModel& camera, const Pose& T_wc) const;
   // Depth (camera z) of the scene at a pixel.
-  double depthAt(const Camera& camera, const Pose& T_wc, const Vec2& px) const;
+  double depthAt(const CameraModel& camera, const Pose& T_wc, const Vec2& px) const;
 
  private:
   double noise(double u, double v, int octave) const;

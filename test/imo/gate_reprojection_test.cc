@@ -13,8 +13,8 @@ namespace hdvio::imo {
 namespace {
 
 CameraModel distortedCamera() {
-  return CameraModel(458.654, 457.296, 367.215, 248.375, DistortionModel::kRadialTangential,
-                     {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05}, 752, 480);
+  return CameraModel(752, 480, 458.654, 457.296, 367.215, 248.375, DistortionModel::kRadialTangential,
+                     {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05});
 }
 
 // Forward-looking camera with 30 deg uptilt and an offset (as in bench_race_v15.yaml).
@@ -71,7 +71,7 @@ TEST(GateReprojection, JacobianMatchesCentralDifferences) {
 
 TEST(GateReprojection, ProjectionMatchesTheMountGeometry) {
   // Identity body pose, default forward camera: a corner straight ahead lands on the principal point.
-  const CameraModel camera(400.0, 400.0, 320.0, 240.0, DistortionModel::kNone, {}, 640, 480);
+  const CameraModel camera(640, 480, 400.0, 400.0, 320.0, 240.0);
   Mat3 R_BC;
   R_BC.col(0) = Vec3(0.0, -1.0, 0.0);
   R_BC.col(1) = Vec3(0.0, 0.0, -1.0);

@@ -53,7 +53,7 @@ TEST(SimRender, KnownPointProjectsWhereTheImageShowsIt) {
       tex[1].at<float>(r, c) -= static_cast<float>(150.0 * std::exp(-0.5 * d2 / (sigma * sigma)));
     }
   const Scene scene(lo, hi, texel, tex);
-  const CameraModel camera(distortedCamera());
+  const CameraModel camera = CameraModel::fromCalibration(distortedCamera());
   const Renderer renderer(scene, camera);
 
   int checked = 0;
@@ -97,7 +97,7 @@ TEST(SimRender, GatesOccludeTheRoomAndLandmarks) {
   gate.center = Vec3(1.5, 0.0, 1.5);  // R_WG = identity: normal along +x
   const Scene scene(lo, hi, texel, tex, {gate});
   CameraCalibration cal = distortedCamera();
-  const CameraModel camera(cal);
+  const CameraModel camera = CameraModel::fromCalibration(cal);
   const Renderer renderer(scene, camera);
   const Pose T_WC = lookingAlong(Vec3(-2.0, 0.0, 1.5), Vec3::UnitX());
   cv::Mat image, depth;
@@ -137,8 +137,10 @@ TEST(SimRender, ConsecutiveFramesArePhotometricallyConsistent) {
   std::vector<double> warped, unwarped;
   for (int y = 4; y < cam.height() - 4; ++y)
     for (int x = 4; x < cam.width() - 4; ++x) {
-      Vec3 ray;
-      ASSERT_TRUE(cam.unproject(Eigen::Vector2d(x, y), &ray));
+      bool converged = false;
+      const Vec3 bearing = cam.unproject(Eigen::Vector2d(x, y), &converged);
+      ASSERT_TRUE(converged);
+      const Vec3 ray = bearing / bearing.z();  // the depth map holds camera z
       Eigen::Vector2d uv;
       if (!cam.project(T_BA * (ray * da.at<float>(y, x)), &uv)) continue;
       if (uv.x() < 0 || uv.y() < 0 || uv.x() > cam.width() - 2 || uv.y() > cam.height() - 2) continue;

@@ -26,6 +26,12 @@ bool gateCornerVisible(const Scene& scene, const Gate& g, int corner_id, const V
   return !scene.segmentBlocked(camera_center, probe);
 }
 
+bool mapsBackToRay(const CameraModel& camera, const Eigen::Vector2d& uv, const Vec3& p_C) {
+  bool converged = false;
+  const Vec3 bearing = camera.unproject(uv, &converged);
+  return converged && (bearing / bearing.z() - p_C / p_C.z()).norm() <= 1e-6;
+}
+
 io::GateData detectGateCorners(const Scene& scene, const CameraModel& camera,
                                const GateDetectionConfig& config,
                                const std::vector<std::pair<Timestamp, Pose>>& frames,
@@ -49,8 +55,7 @@ io::GateData detectGateCorners(const Scene& scene, const CameraModel& camera,
         if (p_C.norm() > config.max_distance) continue;
         Eigen::Vector2d uv;
         if (!camera.project(p_C, &uv) || !camera.inImage(uv)) continue;
-        Vec3 ray;  // strong distortion folds far-off-axis points into the image
-        if (!camera.unproject(uv, &ray) || (ray - p_C / p_C.z()).norm() > 1e-6) continue;
+        if (!mapsBackToRay(camera, uv, p_C)) continue;
         if (!gateCornerVisible(scene, gates[i], k, T_WC.p)) continue;
         const bool dropped = unit(rng) < config.dropout;
         const Eigen::Vector2d noise(normal(rng), normal(rng));

@@ -24,12 +24,13 @@ Renderer::Renderer(const Scene& scene, const CameraModel& camera) : scene_(scene
   rays_.resize(static_cast<size_t>(w) * h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      Vec3 ray;
-      if (!camera.unproject(Eigen::Vector2d(x, y), &ray)) ray = Vec3(0.0, 0.0, 0.0);  // renders as 0
-      rays_[static_cast<size_t>(y) * w + x] = ray;
+      bool converged = false;
+      const Vec3 bearing = camera.unproject(Eigen::Vector2d(x, y), &converged);
+      // z = 1 so that the hit distance is the camera depth; no ray where distortion folds.
+      rays_[static_cast<size_t>(y) * w + x] =
+          converged ? Vec3(bearing / bearing.z()) : Vec3(0.0, 0.0, 0.0);  // renders as 0
     }
-  const CameraCalibration& c = camera.calibration();
-  focal_ = 0.5 * (c.fu + c.fv);
+  focal_ = camera.focalLength();
 }
 
 float Renderer::sampleFace(int face, double u, double v, double footprint) const {

@@ -29,7 +29,7 @@ CameraCalibration cameraCalibrationOf(const CameraSimConfig& c) {
 
 Simulator::Simulator(const SimConfig& config) : config_(config), model_(config) {
   if (config_.camera.enabled) {
-    camera_ = std::make_unique<CameraModel>(cameraCalibrationOf(config_.camera));
+    camera_ = std::make_unique<CameraModel>(CameraModel::fromCalibration(cameraCalibrationOf(config_.camera)));
     const std::vector<GateConfig> gates =
         config_.trajectory.type == "race" ? model_.trajectory().orientedGates() : std::vector<GateConfig>{};
     scene_ = std::make_unique<Scene>(config_.scene, gates, config_.seed);
@@ -141,7 +141,7 @@ SimulationResult Simulator::simulate() const {
                            " rotor samples needed negative rotor thrust (clamped to 0)");
 
   if (camera_) {
-    seq.camera = camera_->calibration();
+    seq.camera = cameraCalibrationOf(config_.camera);
     const std::vector<Vec3> points = scene_->sampleSurfacePoints(config_.scene.num_landmarks, config_.seed);
     for (size_t i = 0; i < points.size(); ++i) seq.landmarks[static_cast<int>(i)] = points[i];
     for (double time : cameraTimes()) {
@@ -153,8 +153,7 @@ SimulationResult Simulator::simulate() const {
         if (!camera_->project(p_C, &uv) || !camera_->inImage(uv)) continue;
         // Strong distortion folds far-off-axis points into the image: keep only points whose
         // pixel maps back to the same ray.
-        Vec3 ray;
-        if (!camera_->unproject(uv, &ray) || (ray - p_C / p_C.z()).norm() > 1e-6) continue;
+        if (!mapsBackToRay(*camera_, uv, p_C)) continue;
         if (scene_->segmentBlocked(T_WC.p, points[i])) continue;
         seq.landmark_observations.push_back(
             LandmarkObservation{timestampOf(time), static_cast<int>(i), uv.x(), uv.y()});

@@ -15,7 +15,7 @@
 #include "hdvio/backend/vi_init_alignment.h"
 #include "hdvio/backend/vi_init_sfm.h"
 #include "hdvio/backend/vio_backend.h"
-#include "hdvio/factors/camera_model.h"
+#include "hdvio/core/camera_model.h"
 #include "hdvio/factors/imu_preintegration.h"
 
 namespace hdvio {

@@ -14,7 +14,7 @@
 #include "hdvio/core/nav_state.h"
 #include "hdvio/backend/sliding_window_smoother.h"
 #include "hdvio/backend/vio_options.h"
-#include "hdvio/factors/camera_model.h"
+#include "hdvio/core/camera_model.h"
 #include "hdvio/factors/measurement_steps.h"
 
 namespace hdvio {

@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "hdvio/core/factor.h"
-#include "hdvio/factors/camera_model.h"
+#include "hdvio/core/camera_model.h"
 
 namespace hdvio {
 

@@ -6,7 +6,7 @@
 // landmark.
 #include <vector>
 
-#include "hdvio/frontend/camera.h"
+#include "hdvio/core/camera_model.h"
 #include "hdvio/frontend/frame.h"
 
 namespace hdvio::frontend {
@@ -49,7 +49,7 @@ double computeTau(const Pose& T_ref_cur, const Vec3& f_ref, double z, double px_
 
 class DepthFilter {
  public:
-  DepthFilter(const Camera& camera, DepthFilterOptions options)
+  DepthFilter(const CameraModel& camera, DepthFilterOptions options)
       : camera_(camera), options_(options) {}
 
   // Seeds for the features of a new keyframe, initialized around depth_mean, no closer than
@@ -69,7 +69,7 @@ class DepthFilter {
   bool findEpipolarMatch(const Seed& seed, const Frame& frame, const Pose& T_cur_ref,
                          Vec2* px_found) const;
 
-  Camera camera_;
+  CameraModel camera_;
   DepthFilterOptions options_;
   std::vector<Seed> seeds_;
   int next_seed_id_ = 0;

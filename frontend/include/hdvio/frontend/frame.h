@@ -8,7 +8,7 @@
 
 #include "hdvio/core/lie.h"
 #include "hdvio/core/time.h"
-#include "hdvio/frontend/camera.h"
+#include "hdvio/core/camera_model.h"
 #include "hdvio/frontend/pyramid.h"
 
 namespace hdvio::frontend {

@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 
 #include "hdvio/core/lie.h"
-#include "hdvio/frontend/camera.h"
+#include "hdvio/core/camera_model.h"
 #include "hdvio/frontend/pyramid.h"
 
 namespace hdvio::frontend {
@@ -19,7 +19,7 @@ using BorderedPatch = std::array<float, kBorderedPatch * kBorderedPatch>;
 
 // Maps pixel offsets on the reference feature's pyramid level to level-0 pixel offsets in the
 // current image (SVO's convention), assuming the point lies at depth_ref along f_ref (fronto-parallel patch).
-Eigen::Matrix2d affineWarp(const Camera& camera, const Vec2& px_ref, const Vec3& f_ref,
+Eigen::Matrix2d affineWarp(const CameraModel& camera, const Vec2& px_ref, const Vec3& f_ref,
                            double depth_ref, int level_ref, const Pose& T_cur_ref);
 
 // Pyramid level whose resolution best matches the warped patch (SVO: det(A) shrinks 4x a level).

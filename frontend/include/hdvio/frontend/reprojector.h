@@ -2,7 +2,7 @@
 // Projects the map's landmarks into a frame whose pose has been aligned, keeps at most one
 // candidate per grid cell (converged landmarks first) and refines each by feature alignment
 // against the keyframe that saw it from the most similar direction.
-#include "hdvio/frontend/camera.h"
+#include "hdvio/core/camera_model.h"
 #include "hdvio/frontend/feature_detector.h"
 #include "hdvio/frontend/frame.h"
 
@@ -15,7 +15,7 @@ struct ReprojectionStats {
 };
 
 // Appends one Feature (with landmark_id) per matched landmark to frame->features.
-ReprojectionStats reprojectMap(const Camera& camera, const FeatureGrid& grid, int max_features,
+ReprojectionStats reprojectMap(const CameraModel& camera, const FeatureGrid& grid, int max_features,
                                int landmark_max_failures, Map* map, Frame* frame);
 
 }  // namespace hdvio::frontend

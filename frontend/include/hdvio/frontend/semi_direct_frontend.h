@@ -14,7 +14,7 @@
 #include <optional>
 
 #include "hdvio/core/sequence.h"
-#include "hdvio/frontend/camera.h"
+#include "hdvio/core/camera_model.h"
 #include "hdvio/frontend/depth_filter.h"
 #include "hdvio/frontend/feature_detector.h"
 #include "hdvio/frontend/frame.h"
@@ -39,7 +39,7 @@ class SemiDirectFrontend {
   TrackingStage stage() const { return stage_; }
   const Map& map() const { return map_; }
   const DepthFilter& depthFilter() const { return depth_filter_; }
-  const Camera& camera() const { return camera_; }
+  const CameraModel& camera() const { return camera_; }
 
  private:
   bool initialize(const FramePtr& frame, const TrackingPrior& prior, FrameResult* result);
@@ -55,7 +55,7 @@ class SemiDirectFrontend {
   Pose cameraToBody(const Pose& T_cw) const { return T_cw.inverse() * T_BS_.inverse(); }
   Pose bodyToCamera(const Pose& T_WB) const { return (T_WB * T_BS_).inverse(); }
 
-  Camera camera_;
+  CameraModel camera_;
   Pose T_BS_;
   FrontendOptions options_;
   FeatureGrid grid_;

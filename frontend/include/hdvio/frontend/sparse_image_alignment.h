@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "hdvio/core/lie.h"
-#include "hdvio/frontend/camera.h"
+#include "hdvio/core/camera_model.h"
 #include "hdvio/frontend/pyramid.h"
 
 namespace hdvio::frontend {
@@ -30,7 +30,7 @@ struct SparseAlignmentResult {
 
 // points_ref: 3-D points in the reference camera frame (visible in the reference image).
 // rotation_prior: R_cur_ref predicted from the gyroscope, if known.
-SparseAlignmentResult alignSparse(const Camera& camera, const Pyramid& ref,
+SparseAlignmentResult alignSparse(const CameraModel& camera, const Pyramid& ref,
                                   const std::vector<Vec3>& points_ref, const Pyramid& cur,
                                   const Pose& T_cur_ref_guess,
                                   const std::optional<Quat>& rotation_prior,

@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "hdvio/core/camera_model.h"
 #include "hdvio/io/gate_corners.h"
-#include "hdvio/sim/camera_model.h"
 #include "hdvio/sim/scene.h"
 #include "hdvio/sim/sim_config.h"
 
@@ -23,6 +23,11 @@ std::array<Vec3, io::kCornersPerGate> gateCornersWorld(const Gate& gate);
 // (tested on a probe 1 cm inside the opening and 1 mm in front of the face, so the corner's
 // own frame only hides it when a bar is really in the way).
 bool gateCornerVisible(const Scene& scene, const Gate& gate, int corner_id, const Vec3& camera_center);
+
+// Whether pixel uv, the projection of the camera-frame point p_C, undistorts back to p_C's ray
+// (within 1e-6 on the z = 1 plane): strong distortion folds far-off-axis points into the
+// image, and such a point is not seen there. Used for landmark tracks and gate corners.
+bool mapsBackToRay(const CameraModel& camera, const Eigen::Vector2d& uv, const Vec3& p_C);
 
 // Map of every gate of the scene and the detections in the frames (timestamp, T_WC), in time
 // order; deterministic for a seed.

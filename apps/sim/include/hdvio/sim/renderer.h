@@ -6,7 +6,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "hdvio/sim/camera_model.h"
+#include "hdvio/core/camera_model.h"
 #include "hdvio/sim/scene.h"
 
 namespace hdvio::sim {

@@ -7,9 +7,9 @@
 
 #include <opencv2/core.hpp>
 
+#include "hdvio/core/camera_model.h"
 #include "hdvio/core/sequence.h"
 #include "hdvio/io/gate_corners.h"
-#include "hdvio/sim/camera_model.h"
 #include "hdvio/sim/renderer.h"
 #include "hdvio/sim/scene.h"
 #include "hdvio/sim/sim_config.h"

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "hdvio/backend/imo/imo_filter.h"
-#include "hdvio/factors/camera_model.h"
+#include "hdvio/core/camera_model.h"
 
 namespace hdvio::imo {
 

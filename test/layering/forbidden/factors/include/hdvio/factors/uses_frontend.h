@@ -1,4 +1,4 @@
 #pragma once
 // fixture for test/layering: factors must not include frontend/
 #include "hdvio/core/factor.h"
-#include "hdvio/frontend/camera.h"
+#include "hdvio/frontend/frame.h"
