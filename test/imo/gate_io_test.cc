@@ -10,6 +10,7 @@
 #include "hdvio/backend/imo/gate_io_runner.h"
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
+#include "hdvio/pipeline/gate_estimator.h"
 #include "hdvio/sim/gate_detections.h"
 #include "hdvio/sim/simulator.h"
 
@@ -34,15 +35,6 @@ const Race& tinyRace() {
     return r;
   }();
   return race;
-}
-
-std::vector<GateFrame> framesOf(const io::GateData& data) {
-  std::vector<GateFrame> frames;
-  for (const io::GateCornerDetection& d : data.detections) {
-    if (frames.empty() || frames.back().t != d.t) frames.push_back({d.t, {}});
-    frames.back().corners.push_back({data.corners.at({d.gate_id, d.corner_id}), Vec2(d.u, d.v)});
-  }
-  return frames;
 }
 
 GateIoOptions raceOptions() {
@@ -86,7 +78,7 @@ double positionRmse(const Sequence& seq, const std::vector<NavState>& states, do
 GateIoOutput runOnRace(const GateIoOptions& options, const NavState& init, bool with_gates) {
   const Race& race = tinyRace();
   const Sequence& seq = race.result.sequence;
-  const std::vector<GateFrame> frames = with_gates ? framesOf(race.result.gates) : std::vector<GateFrame>{};
+  const std::vector<GateFrame> frames = with_gates ? hdvio::gateFrames(race.result.gates) : std::vector<GateFrame>{};
   return runGateIo(seq.imu, init, options, CameraModel::fromCalibration(*seq.camera), seq.camera->T_BS, frames, {});
 }
 
@@ -207,7 +199,7 @@ TEST(GateIoSim, FusesDisplacementsOnTheCloneGrid) {
   o.imo.window_s = 0.5;
   NavState init = truthAt(seq, 0);
   init.v_W += Vec3(0.2, 0.0, 0.0);  // the displacements must correct this before the first gate
-  const std::vector<GateFrame> frames = framesOf(race.result.gates);
+  const std::vector<GateFrame> frames = hdvio::gateFrames(race.result.gates);
   const GateIoOutput fused = runGateIo(seq.imu, init, o, CameraModel::fromCalibration(*seq.camera),
                                        seq.camera->T_BS, frames, source);
   o.fuse_displacements = false;
@@ -243,7 +235,7 @@ TEST(GateIoSim, PerCornerGateRejectsOutlierDetections) {
     corrupted.detections[i].v += 15.0;
     ++outliers;
   }
-  const std::vector<GateFrame> frames = framesOf(corrupted);
+  const std::vector<GateFrame> frames = hdvio::gateFrames(corrupted);
   const CameraModel camera = CameraModel::fromCalibration(*seq.camera);
   GateIoOptions o = raceOptions();
   o.gate_probability = -1.0;

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "../common/file_text.h"
+#include "../common/result_text.h"
 #include "../common/rendered_flight.h"
 #include "../common/run_command.h"
 #include "hdvio/backend/vio_options.h"
@@ -28,6 +29,9 @@ namespace {
 namespace fs = std::filesystem;
 
 using test::readFile;
+using test::trajectoryText;
+using test::velocityText;
+using test::withoutHeader;
 
 // One measurement of the merged stream; at equal times IMU and thrust come before the image
 // (an image needs the IMU up to its time).
@@ -46,29 +50,6 @@ std::vector<Event> mergedStream(const Sequence& seq, const std::vector<ThrustSam
     return a.t != b.t ? a.t < b.t : a.kind < b.kind;
   });
   return events;
-}
-
-// hdvio_run's trajectory and velocity formats (result_writer.cc).
-std::string trajectoryText(const std::vector<NavState>& states) {
-  std::ostringstream s;
-  s.precision(9);
-  s << std::fixed << "# timestamp[s] tx ty tz qx qy qz qw\n";
-  for (const NavState& x : states)
-    s << toSeconds(x.t) << ' ' << x.T_WB.p.x() << ' ' << x.T_WB.p.y() << ' ' << x.T_WB.p.z()
-      << ' ' << x.T_WB.q.x() << ' ' << x.T_WB.q.y() << ' ' << x.T_WB.q.z() << ' ' << x.T_WB.q.w()
-      << '\n';
-  return s.str();
-}
-std::string velocityText(const std::vector<NavState>& states) {
-  std::ostringstream s;
-  s.precision(9);
-  s << std::fixed;
-  for (const NavState& x : states)
-    s << x.t << ',' << x.v_W.x() << ',' << x.v_W.y() << ',' << x.v_W.z() << '\n';
-  return s.str();
-}
-std::string withoutHeader(const std::string& text) {
-  return text.substr(text.find('\n') + 1);
 }
 
 // Runs hdvio_run on the dataset with the experiment, then streams the same flight through a

@@ -9,11 +9,11 @@
 #include <memory>
 #include <optional>
 
-#include "hdvio/backend/imo/gate_io_runner.h"
-#include "hdvio/pipeline/displacement_network_source.h"
-#include "hdvio/core/sequence.h"
 #include "hdvio/core/error.h"
+#include "hdvio/core/sequence.h"
 #include "hdvio/io/gate_corners.h"
+#include "hdvio/pipeline/displacement_network_source.h"
+#include "hdvio/pipeline/gate_sequence_runner.h"
 #include "hdvio/learned/displacement_model.h"
 #include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
@@ -21,16 +21,6 @@
 
 namespace hdvio::run {
 namespace {
-
-// Detections grouped per frame, each corner with its known world position.
-std::vector<imo::GateFrame> gateFrames(const io::GateData& data) {
-  std::vector<imo::GateFrame> frames;
-  for (const io::GateCornerDetection& d : data.detections) {
-    if (frames.empty() || frames.back().t != d.t) frames.push_back({d.t, {}});
-    frames.back().corners.push_back({data.corners.at({d.gate_id, d.corner_id}), Vec2(d.u, d.v)});
-  }
-  return frames;
-}
 
 class GateIoPipeline : public MethodPipeline {
  public:
@@ -85,8 +75,11 @@ class GateIoPipeline : public MethodPipeline {
     const CameraModel camera = CameraModel::fromCalibration(*seq.camera);
     Progress progress("gate_io", imu.front().t, imu.back().t);
     const auto on_progress = [&progress](Timestamp t) { progress.update(t); };
-    const imo::GateIoOutput out =
-        imo::runGateIo(imu, init, options_, camera, seq.camera->T_BS, frames, makeSource(seq, thrust, imu.front().t), on_progress);
+    GateEstimatorOptions options;
+    options.gate = options_;
+    options.source_needs_thrust = model_ && model_->inputKind() == learned::DisplacementInputKind::kThrustGyro;
+    const imo::GateIoOutput out = runGateIoOnSequence(seq, thrust, frames, imu, init, options, camera,
+                                                      seq.camera->T_BS, sourceFactory(imu.front().t), on_progress);
     progress.finish();
 
     RunResults results;
@@ -110,14 +103,15 @@ class GateIoPipeline : public MethodPipeline {
   }
 
  private:
-  // The displacement network as in the imo method (empty source without a network).
-  imo::DisplacementSource makeSource(const Sequence& seq, const std::vector<ThrustSample>& thrust,
-                                     Timestamp start) const {
+  // The displacement network over the estimator's buffers, as in the imo method (none without
+  // a network).
+  DisplacementSourceFactory sourceFactory(Timestamp start) const {
     if (!model_) return {};
-    // The sequence outlives the run: its IMU is shared without a copy.
-    const std::shared_ptr<const std::vector<ImuSample>> imu(std::shared_ptr<void>(), &seq.imu);
-    return networkDisplacementSource(model_, imu, std::make_shared<const std::vector<ThrustSample>>(thrust),
-                                     release_first_window_sample_ ? std::optional<Timestamp>(start) : std::nullopt);
+    const std::optional<Timestamp> release =
+        release_first_window_sample_ ? std::optional<Timestamp>(start) : std::nullopt;
+    return [model = model_, release](const InertialBuffers& b) {
+      return networkDisplacementSource(model, b.imu, b.thrust, release);
+    };
   }
 
   ExperimentFile file_;

@@ -4,6 +4,7 @@
 // measurements of a DisplacementSource (a learned network) are fused as in runImoFilter: clones
 // on the update grid, one relative-position update per window.
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "hdvio/backend/imo/displacement_source.h"
@@ -43,6 +44,39 @@ struct GateIoOutput {
   int displacement_updates = 0;
   int displacement_rejected = 0;
   int no_displacement = 0;
+};
+
+// Throws std::invalid_argument for unusable options (pixel sigma, displacement fusion without a
+// source or with an inconsistent grid).
+void checkGateIoOptions(const GateIoOptions& options, const DisplacementSource& source);
+
+// gate_io one IMU sample at a time, as runGateIo below does over a whole stream (the streaming
+// GateEstimator, backend/pipeline/gate_estimator.h, feeds it): each IMU interval is split at
+// the frame times and, when fusing, the update-grid times inside it. It keeps the output.
+class GateIoStepper {
+ public:
+  // first: the IMU sample at init.t. Throws as checkGateIoOptions.
+  GateIoStepper(const GateIoOptions& options, const CameraModel& camera, const Pose& T_BC,
+                const NavState& init, const ImuSample& first, DisplacementSource source);
+  ~GateIoStepper();
+  GateIoStepper(const GateIoStepper&) = delete;
+  GateIoStepper& operator=(const GateIoStepper&) = delete;
+
+  // A frame to apply in the IMU interval that holds its time: give it before the sample that
+  // ends that interval. Ignored if not after the last sample stepped (init.t at the start) or
+  // before the previous frame.
+  void addFrame(const GateFrame& frame);
+  // The next sample, strictly after the previous one.
+  void addImu(const ImuSample& sample);
+  // The next displacement-grid time (fusing), else the largest Timestamp.
+  Timestamp nextGridTime() const;
+  NavState state() const;
+  const GateIoOutput& output() const;
+  GateIoOutput& output();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 // The filter starts at init.t (an IMU sample time) from init's pose, velocity and biases.
