@@ -2,12 +2,14 @@
 # The product's story in one command (docs/hdvio_story.md):
 #   1. set up (Debian packages incl. libtorch for the trainer) and build the tools;
 #   2. simulate a calm-air training flight and a separate fast test flight (race through gates)
-#      with rotor/fuselage drag, a breeze and gusts (hdvio_sim);
+#      with rotor/fuselage drag, a breeze and gusts, rendered as 752x480 camera images (hdvio_sim);
 #   3. train the residual-force TCN on the training flight only (hdvio_train, bounded: at most
 #      40 epochs or 2 minutes on one thread) and check its force prediction on the test flight
 #      (hdvio_force_eval);
-#   4. run vio, vimo, vid and hdvio with the trained model on the test flight's landmark tracks
-#      (hdvio_run, in parallel);
+#   4. run vio, vimo, vid and hdvio with the trained model on the test flight's camera images
+#      (semi-direct frontend + sliding-window smoother, the project's own start: static, the
+#      flight starts at rest; hdvio_run, in parallel), and OpenVINS beside them when its peer
+#      build exists (../shared/peers/openvins, started from ground truth as that runner does);
 #   5. print the evaluation table (ATE, RPE, velocity and force RMSE) and write figures
 #      (hdvio_eval --plots).
 # Everything goes to results/demo/.
@@ -53,10 +55,10 @@ step "force prediction on the test flight (never trained on): thrust alone vs th
 "$bin/train/hdvio_force_eval" --data_root "$out" --data sequence \
   --weights "$out/model/residual_force.tcn" | tee "$out/model/force_eval.md"
 
-step "running vio, vimo, vid and hdvio (trained model) on the test flight"
+step "running vio, vimo, vid and hdvio (trained model) on the test flight's camera images"
 methods=(vio vimo vid hdvio)
-configs=(config/experiments/sim_racing_vio.yaml config/experiments/sim_racing_vimo.yaml
-         config/experiments/sim_racing_vid.yaml config/experiments/hdvio_learned_demo.yaml)
+configs=(config/experiments/sim_images_vio.yaml config/experiments/sim_images_vimo.yaml
+         config/experiments/sim_images_vid.yaml config/experiments/hdvio_learned_demo.yaml)
 pids=()
 for i in "${!methods[@]}"; do  # all at once: each is single-threaded, the OS shares the cores
   # --evaluate=false: the joint evaluation below compares all methods in one table
@@ -67,15 +69,37 @@ done
 for i in "${!methods[@]}"; do
   wait "${pids[$i]}" || { cat "$out/${methods[$i]}.log" >&2; echo "demo.sh: ${methods[$i]} failed" >&2; exit 1; }
 done
-for m in "${methods[@]}"; do tail -n 1 "$out/$m.log"; done
+for m in "${methods[@]}"; do
+  echo "$m: $(grep -h 'frontend saw' "$out/$m.log" | sed 's/^hdvio_run: //')"
+done
+
+# The peer a user would pick instead: OpenVINS (mono), when built (its build needs a snapshot of
+# rpng/open_vins, see ../shared/peers/openvins/README.md; ~15 min on 2 cores).
+estimates="vio=$out/vio,vimo=$out/vimo,vid=$out/vid,hdvio=$out/hdvio"
+ov_runner=${TMPDIR:-/tmp}/openvins-build/bin/run_asl
+if [ -x "$ov_runner" ] || [ -n "${OV_GIT_DIR:-}" ]; then
+  step "running OpenVINS (mono, ground-truth start) on the same images"
+  if ../shared/peers/openvins/run.sh "$out/sequence" "$out/openvins/stamped_traj_estimate.txt" \
+       > "$out/openvins.log" 2>&1; then
+    grep -h "ms/image" "$out/openvins.log" || true
+    estimates="$estimates,openvins=$out/openvins/stamped_traj_estimate.txt"
+  else  # the peer is not part of the product: its column is left out, and the table says so
+    tail -n 5 "$out/openvins.log" >&2
+    echo "OpenVINS column skipped: its run failed (log: $out/openvins.log)"
+  fi
+else
+  echo "OpenVINS column skipped: not built (see ../shared/peers/openvins/README.md; set OV_GIT_DIR)"
+fi
 
 step "evaluating (posyaw-aligned ATE, RPE, velocity and force RMSE) and plotting"
 "$bin/eval/hdvio_eval" --gt "$out/sequence" \
-  --est "vio=$out/vio,vimo=$out/vimo,vid=$out/vid,hdvio=$out/hdvio" \
+  --est "$estimates" \
   --out "$out/evaluation" --plots
 echo
 cat "$out/evaluation/table.md"
 echo
+echo "vio, vimo, vid and hdvio: the frontend on the camera images, own (static) start; openvins (if"
+echo "listed): mono OpenVINS started from the ground-truth state at the first image."
 echo "Force columns: each run's total non-thrust force (stamped_total_force_estimate.csv: for vimo"
 echo "and vid their external force, which absorbs all non-thrust force; for hdvio its model's"
 echo "force (drag law + TCN) plus its external force) against the simulator's drag + external force."

@@ -187,7 +187,7 @@ TEST_F(BenchPeer, SimImagesMatrixRunsOpenVinsBesideTheFrontendExperiments) {
       ++hdvio_runs;
   }
   EXPECT_EQ(openvins, 1) << o.output;
-  EXPECT_EQ(hdvio_runs, 4) << o.output;  // vio, vimo x ground-truth start, own start
+  EXPECT_EQ(hdvio_runs, 6) << o.output;  // vio, vimo, hdvio x ground-truth start, own start
 }
 
 }  // namespace
