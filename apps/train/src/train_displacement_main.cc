@@ -175,11 +175,15 @@ int run() {
   info.inputs = inputs;
   info.output_sigma = FLAGS_epochs > 0 ? std::vector<double>{fixed_sigma[0], fixed_sigma[1], fixed_sigma[2]}
                                        : std::vector<double>{s.x(), s.y(), s.z()};
+  const std::string how =
+      FLAGS_epochs > 0
+          ? "\n" + std::to_string(FLAGS_epochs) + " epochs on all of data.train (--epochs), output_sigma " +
+                FLAGS_output_sigma + " (--output_sigma, from the cross-validation folds)"
+          : "\nbest epoch " + std::to_string(result.best_epoch) + " of " +
+                std::to_string(result.history.size() - 1) + ", validation MSE " +
+                std::to_string(best.validation_loss) + " m^2";
   learned::saveTcnFile(result.best, info, FLAGS_out,
-                       "trained by hdvio_train_displacement --config " + FLAGS_config + "\nbest epoch " +
-                           std::to_string(result.best_epoch) + " of " +
-                           std::to_string(result.history.size() - 1) + ", validation MSE " +
-                           std::to_string(best.validation_loss) + " m^2",
+                       "trained by hdvio_train_displacement --config " + FLAGS_config + how,
                        encoding == "text" ? learned::TcnEncoding::kText : learned::TcnEncoding::kFloat32);
   std::cout << "wrote " << FLAGS_out << "\n";
   return 0;
