@@ -84,6 +84,8 @@ int run() {
   data.readInRange("validation_every", &validation_every, 2, 1000);
   data.readInRange("cross_validation_folds", &folds, 0, 100);  // 0: interleaved blocks as above
   data.readInRange("cross_validation_gap_seconds", &gap_seconds, 0.0, 100.0);
+  std::string cv_by = "blocks";  // blocks: fold k = the k-th block of each flight; flights: the
+  data.readChoice("cross_validation_by", &cv_by, {"blocks", "flights"});  // flights i % folds == k
   data.readInRange("thrust_coefficient", &thrust_coefficient, 0.0, 1.0);
   data.readInRange("mass", &mass, 0.0, 1000.0);
   data.finish();
@@ -121,10 +123,15 @@ int run() {
   // Held out: fold k's contiguous block of each flight, or every validation_every-th block;
   // with --epochs nothing.
   std::vector<learned::FlightSamples> train_flights, validation_flights;
-  for (const auto& p : train_paths) {
+  for (std::size_t i = 0; i < train_paths.size(); ++i) {
+    const std::string& p = train_paths[i];
     const learned::FlightSamples f = train::loadFlight(p, source);
     if (FLAGS_epochs > 0) {
       train_flights.push_back(f);
+    } else if (FLAGS_fold >= 0 && cv_by == "flights") {
+      const bool test = static_cast<int>(i % static_cast<std::size_t>(folds)) == FLAGS_fold;
+      (test ? validation_flights : train_flights).push_back(f);
+      if (test) std::cout << p << ": fold " << FLAGS_fold << " of " << folds << " tests on this flight\n";
     } else if (FLAGS_fold >= 0) {
       const learned::BlockFold fold = learned::contiguousBlockFold(
           f.size(), folds, FLAGS_fold, static_cast<std::size_t>(gap_seconds * arch.sample_rate_hz));
