@@ -74,35 +74,78 @@ torch::Tensor DisplacementTrainer::augment(const DisplacementSet& set, const tor
   torch::Tensor force = x.slice(1, 0, 3), gyro = biased(x.slice(1, 3, 6), options_.gyro_bias_range);
   if (options_.kind == DisplacementInputKind::kAccelGyro) force = biased(force, options_.accel_bias_range);
   if (options_.orientation_sigma_deg > 0.0) {
-    const torch::Tensor dR = expBatch(torch::randn({b, 3}) * (options_.orientation_sigma_deg * M_PI / 180.0));
+    const double sigma = options_.orientation_sigma_deg * M_PI / 180.0;
+    torch::Tensor delta;
+    if (options_.orientation_perturbation == OrientationPerturbation::kGaussian) {
+      delta = torch::randn({b, 3}) * sigma;
+    } else {
+      const torch::Tensor axis = torch::randn({b, 3});
+      delta = axis / axis.norm(2, 1, true).clamp_min(1e-12) * (torch::rand({b, 1}) * sigma);
+    }
+    const torch::Tensor dR = expBatch(delta);
     force = torch::matmul(dR, force);
     gyro = torch::matmul(dR, gyro);
   }
   return torch::cat({force, gyro}, 1);
 }
 
-double DisplacementTrainer::pass(const DisplacementSet& set, torch::optim::Adam* optimizer) {
+torch::Tensor DisplacementTrainer::loss(const torch::Tensor& prediction, const torch::Tensor& target) const {
+  if (options_.loss == DisplacementLoss::kHuber) {
+    return torch::nn::functional::huber_loss(
+        prediction, target, torch::nn::functional::HuberLossFuncOptions().delta(options_.huber_delta));
+  }
+  return (prediction - target).square().sum(1).mean();
+}
+
+Eigen::Vector3d DisplacementTrainer::pass(const DisplacementSet& set, torch::optim::Adam* optimizer) {
   const bool training = optimizer != nullptr;
   module_->train(training);
   std::optional<torch::NoGradGuard> no_grad;
   if (!training) no_grad.emplace();
   const int64_t n = set.size();
   const torch::Tensor order = training ? torch::randperm(n) : torch::arange(n);
-  double sum = 0.0;
+  torch::Tensor sum = torch::zeros({3}, torch::kFloat64);
   for (int64_t start = 0; start < n; start += options_.batch_size) {
     const torch::Tensor idx = order.slice(0, start, std::min<int64_t>(n, start + options_.batch_size));
     const torch::Tensor x = training ? augment(set, idx) : set.inputs.index_select(0, idx);
-    const torch::Tensor out = module_->forward(x).select(2, x.size(2) - 1).slice(1, 0, 3);  // B x 3
-    const torch::Tensor err = out - set.targets.index_select(0, idx);
-    const torch::Tensor loss = err.square().sum(1).mean();
+    const torch::Tensor out = module_->forwardLast(x).slice(1, 0, 3);  // B x 3
+    const torch::Tensor target = set.targets.index_select(0, idx);
     if (training) {
+      const torch::Tensor l = loss(out, target);
       optimizer->zero_grad();
-      loss.backward();
+      l.backward();
       optimizer->step();
     }
-    sum += err.square().sum().item<double>();
+    sum += (out.detach() - target).square().sum(0).to(torch::kFloat64);
   }
-  return n > 0 ? sum / static_cast<double>(n) : 0.0;
+  Eigen::Vector3d mse = Eigen::Vector3d::Zero();
+  for (int c = 0; c < 3; ++c) mse(c) = n > 0 ? sum[c].item<double>() / static_cast<double>(n) : 0.0;
+  return mse;
+}
+
+double DisplacementTrainer::trainingWindowsPerSecond(const std::vector<FlightSamples>& flights, int batches,
+                                                     int threads, double* cpu_seconds) {
+  torch::set_num_threads(threads);
+  const DisplacementSet set = buildDisplacementSet(flights, arch_.window, options_.kind, options_.stride_samples);
+  if (set.size() < options_.batch_size) throw std::invalid_argument("fewer windows than one batch");
+  torch::optim::Adam optimizer(module_->parameters(), torch::optim::AdamOptions(options_.learning_rate));
+  module_->train(true);
+  const torch::Tensor order = torch::randperm(set.size());
+  const auto step = [&](int i) {
+    const int64_t start = (static_cast<int64_t>(i) * options_.batch_size) % (set.size() - options_.batch_size + 1);
+    const torch::Tensor idx = order.slice(0, start, start + options_.batch_size);
+    const torch::Tensor l = loss(module_->forwardLast(augment(set, idx)).slice(1, 0, 3), set.targets.index_select(0, idx));
+    optimizer.zero_grad();
+    l.backward();
+    optimizer.step();
+  };
+  step(0);  // warm-up (allocations)
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
+  for (int i = 1; i <= batches; ++i) step(i);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (cpu_seconds) *cpu_seconds = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  return static_cast<double>(batches) * options_.batch_size / s;
 }
 
 DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSamples>& train_flights,
@@ -119,7 +162,8 @@ DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSa
       buildDisplacementSet(train_flights, arch_.window, options_.kind, options_.stride_samples);
   const DisplacementSet val_set =
       buildDisplacementSet(validation_flights, arch_.window, options_.kind, options_.stride_samples);
-  if (train_set.size() == 0 || val_set.size() == 0) {
+  const bool fixed = options_.fixed_epochs > 0;
+  if (train_set.size() == 0 || (val_set.size() == 0 && !fixed)) {
     throw std::invalid_argument("no complete training or validation window");
   }
   const torch::Tensor flat = train_set.inputs.transpose(0, 1).reshape({6, -1});
@@ -134,17 +178,30 @@ DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSa
     const auto t0 = std::chrono::steady_clock::now();
     DisplacementEpoch s;
     s.epoch = epoch;
-    s.train_loss = pass(train_set, epoch > 0 ? &optimizer : nullptr);
-    s.validation_loss = pass(val_set, nullptr);
+    s.train_loss = pass(train_set, epoch > 0 ? &optimizer : nullptr).sum();
+    s.validation_axis_mse = val_set.size() > 0 ? pass(val_set, nullptr) : Eigen::Vector3d::Constant(NAN);
+    s.validation_loss = s.validation_axis_mse.sum();
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(s);
+    if (options_.save_every > 0 && !options_.checkpoint_dir.empty() && epoch % options_.save_every == 0 &&
+        val_set.size() > 0) {
+      TcnFileInfo info;
+      info.task = "displacement";
+      info.inputs = toString(options_.kind);
+      info.output_sigma = {std::sqrt(s.validation_axis_mse.x()), std::sqrt(s.validation_axis_mse.y()),
+                           std::sqrt(s.validation_axis_mse.z())};
+      saveTcnFile(exportTcn(module_), info, options_.checkpoint_dir + "/epoch_" + std::to_string(epoch) + ".tcn",
+                  "epoch " + std::to_string(epoch) + " (output_sigma: this epoch's validation RMSE)",
+                  TcnEncoding::kFloat32);
+    }
     out << "epoch " << std::setw(3) << epoch << "  train " << std::setprecision(5) << s.train_loss
         << "  val " << s.validation_loss << " m^2  " << std::setprecision(3) << s.seconds << " s (process CPU "
         << static_cast<double>(std::clock()) / CLOCKS_PER_SEC / 60.0 << " min)";
     return s.validation_loss;
   };
   const EpochLoopResult loop = runEpochLoop(
-      {options_.max_epochs, options_.patience, options_.max_minutes, options_.checkpoint_dir, false},
+      {fixed ? options_.fixed_epochs : options_.max_epochs, options_.patience, options_.max_minutes,
+       options_.checkpoint_dir, false, fixed},
       module_, run_epoch, log);
   result.best_epoch = loop.best_epoch;
   result.best = loop.best;
@@ -157,7 +214,8 @@ DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSa
     const Vec3 d = result.best.predictWindow(worldWindow(f, e.end, arch_.window, options_.kind)).force.cast<double>();
     sq += (d - displacementTarget(f, e.end, arch_.window)).cwiseAbs2();
   }
-  result.validation_rmse = (sq / static_cast<double>(ex.size())).cwiseSqrt();
+  result.validation_rmse = ex.empty() ? Eigen::Vector3d::Constant(NAN)
+                                      : Eigen::Vector3d((sq / static_cast<double>(ex.size())).cwiseSqrt());
   return result;
 }
 

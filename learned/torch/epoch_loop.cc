@@ -16,14 +16,14 @@ EpochLoopResult runEpochLoop(const EpochLoopOptions& options, TcnModule& module,
   const auto t_start = Clock::now();
   for (int epoch = 0; epoch <= options.max_epochs; ++epoch) {
     const double validation_loss = run_epoch(epoch, log);
-    if (validation_loss < best) {
+    if (validation_loss < best || options.keep_last) {
       best = validation_loss;
       result.best_epoch = epoch;
       result.best = exportTcn(module);
       if (!options.checkpoint_dir.empty())
         saveTcnWeights(result.best, options.checkpoint_dir + "/best.tcn",
                        "best epoch " + std::to_string(epoch));
-      log << "  *";
+      if (!options.keep_last) log << "  *";
     }
     log << std::endl;
     if (options.save_module && !options.checkpoint_dir.empty())

@@ -1,5 +1,6 @@
 #include "hdvio/learned/torch/tcn_module.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace hdvio::learned {
@@ -54,6 +55,90 @@ TcnModuleImpl::TcnModuleImpl(const TcnArchitecture& architecture) : arch_(archit
   }
   mean_ = register_buffer("input_mean", torch::zeros({arch_.input_channels}));
   std_ = register_buffer("input_std", torch::ones({arch_.input_channels}));
+  if (arch_.residual) buildLastStepPlan();
+}
+
+void TcnModuleImpl::buildLastStepPlan() {
+  // Backwards from the window's last step: a convolution outputting steps `out` reads its
+  // input at s - (k-1-j) d for each tap j (negative = zero padding).
+  const int k = arch_.kernel_size;
+  const auto inputSteps = [k](const std::vector<int>& out, int d) {
+    std::vector<int> in;
+    for (int s : out)
+      for (int j = 0; j < k; ++j)
+        if (s - (k - 1 - j) * d >= 0) in.push_back(s - (k - 1 - j) * d);
+    std::sort(in.begin(), in.end());
+    in.erase(std::unique(in.begin(), in.end()), in.end());
+    return in;
+  };
+  const auto positions = [](const std::vector<int>& of, const std::vector<int>& in) {
+    std::vector<int64_t> pos;
+    for (int s : of) {
+      const auto it = std::lower_bound(in.begin(), in.end(), s);
+      pos.push_back(s < 0 ? static_cast<int64_t>(in.size()) : static_cast<int64_t>(it - in.begin()));
+    }
+    return torch::tensor(pos, torch::kInt64);
+  };
+  const std::size_t blocks = arch_.layers.size();
+  std::vector<std::vector<int>> steps(2 * blocks + 1);  // steps[c] = input steps of conv c
+  steps[2 * blocks] = {arch_.window - 1};
+  for (std::size_t l = blocks; l-- > 0;) {
+    const int d = arch_.layers[l].dilation;
+    steps[2 * l + 1] = inputSteps(steps[2 * l + 2], d);
+    std::vector<int> in = inputSteps(steps[2 * l + 1], d);
+    for (int s : steps[2 * l + 2]) in.push_back(s);  // the skip reads the block's output steps
+    std::sort(in.begin(), in.end());
+    in.erase(std::unique(in.begin(), in.end()), in.end());
+    steps[2 * l] = in;
+  }
+  tap_index_.assign(2 * blocks, {});
+  skip_index_.assign(blocks, {});
+  for (std::size_t c = 0; c < 2 * blocks; ++c) {
+    const int d = arch_.layers[c / 2].dilation;
+    for (int j = 0; j < k; ++j) {
+      std::vector<int> taps;
+      for (int s : steps[c + 1]) taps.push_back(s - (k - 1 - j) * d);
+      tap_index_[c].push_back(positions(taps, steps[c]));
+    }
+  }
+  for (std::size_t l = 0; l < blocks; ++l) skip_index_[l] = positions(steps[2 * l + 2], steps[2 * l]);
+  input_index_ = torch::tensor(std::vector<int64_t>(steps[0].begin(), steps[0].end()), torch::kInt64);
+}
+
+torch::Tensor TcnModuleImpl::forwardLast(const torch::Tensor& x) {
+  if (!arch_.residual) throw std::logic_error("forwardLast needs a residual architecture");
+  namespace F = torch::nn::functional;
+  const int64_t batch = x.size(0);
+  // Step-major layout (steps x batch x channels): selecting steps is one index_select and each
+  // convolution tap is one (steps * batch) x in by in x out product.
+  torch::Tensor h = ((x.index_select(2, input_index_) - mean_.view({1, -1, 1})) / std_.view({1, -1, 1}))
+                        .permute({2, 0, 1});
+  const auto pointwise = [batch](const torch::Tensor& in, const torch::Tensor& w, const torch::Tensor& b) {
+    return F::linear(in.reshape({-1, in.size(2)}), w, b).view({in.size(0), batch, w.size(0)});
+  };
+  // A convolution at the planned steps: sum over taps j of W_j x[taps_j] + b, with the zero
+  // padding as an appended zero step.
+  const auto conv = [&](std::size_t c, const torch::Tensor& in) {
+    const torch::Tensor padded = torch::cat({in, torch::zeros({1, batch, in.size(2)}, in.options())}, 0);
+    const torch::Tensor& w = convs_[c]->weight;  // out x in x k
+    torch::Tensor y;
+    for (std::size_t j = 0; j < tap_index_[c].size(); ++j) {
+      const torch::Tensor tap = padded.index_select(0, tap_index_[c][j]);
+      const torch::Tensor wj = w.select(2, static_cast<int64_t>(j));
+      y = j == 0 ? pointwise(tap, wj, convs_[c]->bias) : y + pointwise(tap, wj, torch::Tensor());
+    }
+    return y;
+  };
+  for (std::size_t l = 0; l < arch_.layers.size(); ++l) {
+    const torch::Tensor a = torch::gelu(conv(2 * l, h));
+    const torch::Tensor b = torch::gelu(conv(2 * l + 1, a));
+    const torch::Tensor in = h.index_select(0, skip_index_[l]);
+    h = b + (skips_[l] ? pointwise(in, skips_[l]->weight.squeeze(2), skips_[l]->bias) : in);
+    if (arch_.block_relu) h = torch::relu(h);
+  }
+  torch::Tensor out = pointwise(h, head_->weight.squeeze(2), head_->bias);  // 1 x batch x outputs
+  if (arch_.variance_head) out = torch::cat({out, pointwise(h, logvar_->weight.squeeze(2), logvar_->bias)}, 2);
+  return out.select(0, 0);
 }
 
 void TcnModuleImpl::setNormalization(const torch::Tensor& mean, const torch::Tensor& std) {
@@ -73,10 +158,12 @@ torch::Tensor TcnModuleImpl::forward(const torch::Tensor& x) {
       h = torch::gelu(convs_[c]->forward(F::pad(h, F::PadFuncOptions({pad, 0}))));
       continue;
     }
-    // Residual block: GELU(conv_b(GELU(conv_a(x)))) + skip(x), both convolutions at once.
+    // Residual block: GELU(conv_b(GELU(conv_a(x)))) + skip(x), both convolutions at once;
+    // the release variant adds a ReLU after the sum.
     const torch::Tensor a = torch::gelu(convs_[c]->forward(F::pad(h, F::PadFuncOptions({pad, 0}))));
     const torch::Tensor b = torch::gelu(convs_[c + 1]->forward(F::pad(a, F::PadFuncOptions({pad, 0}))));
     h = b + (skips_[l] ? skips_[l]->forward(h) : h);
+    if (arch_.block_relu) h = torch::relu(h);
     ++c;
   }
   torch::Tensor out = head_->forward(h);

@@ -1,6 +1,7 @@
 // libtorch-only checks of the displacement network: the residual module against the Eigen
-// Tcn on random weights (with skip projections), and a tiny training run on a synthetic
-// flight that must cut the validation error.
+// Tcn on random weights (with skip projections; also the release variant), the last-step
+// forward training uses against the full forward (values and gradients), and tiny training
+// runs on a synthetic flight.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -36,6 +37,58 @@ TEST(DisplacementTorch, ResidualModuleMatchesEigen) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(last.force(c), ref[c][69].item<double>(), 1e-5);
   TcnModule back = importTcn(tcn);
   EXPECT_LT((back->forward(x) - module->forward(x)).abs().max().item<double>(), 1e-6);
+}
+
+// Random weights and a normalization that is not the identity.
+TcnModule randomModule(const TcnArchitecture& a, int seed) {
+  torch::manual_seed(seed);
+  TcnModule module(a);
+  module->setNormalization(torch::tensor({0.1f, -0.2f, 9.5f, 0.0f, 0.1f, -0.1f}),
+                           torch::tensor({1.5f, 1.2f, 2.0f, 0.8f, 0.9f, 0.5f}));
+  return module;
+}
+
+TEST(DisplacementTorch, ReleaseVariantModuleMatchesEigen) {
+  TcnModule module = randomModule(TcnArchitecture::imoRelease(), 9);
+  torch::NoGradGuard no_grad;
+  const torch::Tensor x = torch::randn({3, 6, 50}) * 2.0;
+  const torch::Tensor ref = module->forward(x).select(2, 49);
+  const Tcn tcn = exportTcn(module);
+  ASSERT_TRUE(tcn.architecture().block_relu);
+  for (int b = 0; b < 3; ++b) {
+    MatrixXf in(6, 50);
+    for (int c = 0; c < 6; ++c)
+      for (int t = 0; t < 50; ++t) in(c, t) = x[b][c][t].item<float>();
+    const TcnOutput out = tcn.predictWindow(in);  // zero padding of the 255-sample receptive field
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out.force(c), ref[b][c].item<double>(), 1e-5);
+  }
+}
+
+TEST(DisplacementTorch, LastStepForwardEqualsFullForwardWithGradients) {
+  for (const TcnArchitecture& a : {TcnArchitecture::imo(), TcnArchitecture::imoRelease()}) {
+    TcnModule module = randomModule(a, 11);
+    const torch::Tensor x = torch::randn({4, 6, 50}) * 2.0;
+    const torch::Tensor full = module->forward(x).select(2, 49);
+    const torch::Tensor last = module->forwardLast(x);
+    ASSERT_EQ(last.sizes(), full.sizes());
+    EXPECT_LT((last - full).abs().max().item<double>(), 1e-5);
+    // Same gradients: a loss on either path moves the weights alike.
+    const torch::Tensor w = torch::randn({4, 3});
+    module->zero_grad();
+    (full * w).sum().backward();
+    std::vector<torch::Tensor> g_full;
+    for (const auto& p : module->parameters()) g_full.push_back(p.grad().clone());
+    module->zero_grad();
+    (module->forwardLast(x) * w).sum().backward();
+    double worst = 0.0;
+    std::size_t i = 0;
+    for (const auto& p : module->parameters()) {
+      const double scale = g_full[i].abs().max().item<double>() + 1e-6;
+      worst = std::max(worst, (p.grad() - g_full[i]).abs().max().item<double>() / scale);
+      ++i;
+    }
+    EXPECT_LT(worst, 1e-4) << (a.block_relu ? "release" : "imo");
+  }
 }
 
 // 30 s of a smooth 3-D trajectory at 100 Hz, periodic with 5 pi s (so a validation flight at
@@ -82,6 +135,36 @@ TEST(DisplacementTorch, TinyRunReducesValidationError) {
   EXPECT_LT(best, 0.3 * first) << log.str();
   // The reported sigma is the Eigen model's RMSE on the validation windows.
   EXPECT_NEAR(result.validation_rmse.squaredNorm(), best, 0.05 * best + 1e-6);
+}
+
+TEST(DisplacementTorch, FixedEpochRunWithHuberLossKeepsTheLastEpoch) {
+  TcnArchitecture a;
+  a.residual = true;
+  a.block_relu = true;
+  a.window_padding = true;
+  a.window = 20;
+  a.layers = {{16, 1}, {16, 4}, {16, 16}};  // receptive field 43 > 20: padded, as the release
+  DisplacementTrainOptions o;
+  o.stride_samples = 4;
+  o.batch_size = 32;
+  o.learning_rate = 3e-3;
+  o.loss = DisplacementLoss::kHuber;
+  o.huber_delta = 0.5;
+  o.orientation_perturbation = OrientationPerturbation::kUniformAngle;
+  o.orientation_sigma_deg = 8.0;
+  o.fixed_epochs = 4;
+  o.patience = 1;  // ignored with a fixed epoch count
+  DisplacementTrainer trainer(a, o);
+  std::ostringstream log;
+  const auto result = trainer.train({syntheticFlight(0.0)}, {}, log);  // no validation flights
+  ASSERT_EQ(result.history.size(), 5u) << log.str();
+  EXPECT_EQ(result.best_epoch, 4);
+  EXPECT_LT(result.history.back().train_loss, 0.5 * result.history[1].train_loss) << log.str();
+  // The kept weights are the last epoch's.
+  TcnModule last = importTcn(result.best);
+  torch::NoGradGuard no_grad;
+  const torch::Tensor x = torch::randn({2, 6, 20});
+  EXPECT_LT((last->forwardLast(x) - trainer.module()->forwardLast(x)).abs().max().item<double>(), 1e-6);
 }
 
 }  // namespace

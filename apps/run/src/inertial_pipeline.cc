@@ -109,6 +109,7 @@ class InertialPipeline : public MethodPipeline {
 
     RunResults results;
     results.states = out.states;
+    results.innovations = out.innovations;
     const int updates = out.updates + out.rejected + out.no_measurement;
     results.stages.push_back({"propagation", out.propagation_s, static_cast<int>(imu.size())});
     results.stages.push_back({model_ ? "network" : "model", out.source_s, updates});

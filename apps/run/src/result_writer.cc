@@ -1,5 +1,6 @@
 #include "hdvio/run/result_writer.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -99,7 +100,21 @@ void writeResults(const RunResults& r, const std::string& out_dir) {
     f->close();
     if (!*f) throw InputError(tmp.string(), 0, "writing results failed (disk full?)");
   }
-  for (auto* f : {&force, &residual, &total}) {
+  // Displacement-update innovations (inertial filters): residual, its predicted std per axis
+  // (sqrt of S's diagonal) and the normalized innovation squared r' S^-1 r.
+  std::ofstream innovations;
+  if (!r.innovations.empty()) {
+    innovations = openOut(tmp / "innovations.csv");
+    innovations << "#timestamp [ns],r_x [m],r_y [m],r_z [m],sigma_x [m],sigma_y [m],sigma_z [m],nis,applied\n";
+    for (const auto& u : r.innovations) {
+      const imo::Innovation& in = u.innovation;
+      innovations << u.t;
+      for (int i = 0; i < 3; ++i) innovations << ',' << in.residual(i);
+      for (int i = 0; i < 3; ++i) innovations << ',' << std::sqrt(in.covariance(i, i));
+      innovations << ',' << in.nis << ',' << (u.applied ? 1 : 0) << '\n';
+    }
+  }
+  for (auto* f : {&force, &residual, &total, &innovations}) {
     if (!f->is_open()) continue;
     f->close();
     if (!*f) throw InputError(tmp.string(), 0, "writing results failed (disk full?)");

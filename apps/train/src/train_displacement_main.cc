@@ -1,9 +1,17 @@
 // hdvio_train_displacement: trains the IMO (thrust + gyro) or TLIO-style (accelerometer +
 // gyro) displacement network with libtorch and writes a version-2 weight file
-// (task displacement, output_sigma = per-axis RMSE on the held-out blocks). docs/imo_network.md.
+// (task displacement, output_sigma = per-axis RMSE on the held-out blocks). With
+// data.cross_validation_folds, --fold k trains fold k (early stopping on its block, history.csv
+// and epoch checkpoints for scripts/imo_cv_select.py) and --epochs N --output_sigma x,y,z the
+// final network on the whole flights. --benchmark_batches measures training throughput.
+// docs/imo_network.md.
+#include <array>
+#include <cstdio>
+#include <iomanip>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include <gflags/gflags.h>
 
@@ -11,6 +19,7 @@
 #include "hdvio/core/error.h"
 #include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
+#include "hdvio/learned/flight_folds.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/torch/displacement_trainer.h"
 #include "hdvio/train/flight_loading.h"
@@ -19,7 +28,14 @@
 DEFINE_string(config, "", "training YAML (config/learned/imo_*.yaml, tlio_*.yaml)");
 DEFINE_string(out, "", "output weight file (.tcn)");
 DEFINE_string(data_root, "../shared/data", "prefix for relative data paths of the config");
-DEFINE_string(checkpoint_dir, "", "optional folder for best.tcn (each improvement) and effective.yaml");
+DEFINE_string(checkpoint_dir, "", "optional folder for best.tcn (each improvement), history.csv and effective.yaml");
+DEFINE_int32(fold, -1, "cross-validation fold to train (needs data.cross_validation_folds); -1 = none");
+DEFINE_int32(epochs, 0, "> 0: train exactly this many epochs on all of data.train (no held-out blocks) "
+             "and keep the last weights; needs --output_sigma");
+DEFINE_string(output_sigma, "", "x,y,z [m] written as output_sigma with --epochs (from the folds)");
+DEFINE_int32(save_every, 0, "> 0: also write epoch_<e>.tcn every this many epochs into --checkpoint_dir");
+DEFINE_int32(benchmark_batches, 0, "> 0: print training windows per second (1 and 2 threads) of this "
+             "many batches instead of training (--out is not written)");
 
 namespace {
 
@@ -30,6 +46,8 @@ learned::TcnArchitecture readModel(const ConfigReader& m, std::string* inputs) {
   a.residual = true;
   m.readChoice("inputs", inputs, {"thrust_gyro", "accel_gyro"}, true);
   train::readTcnShape(m, &a);
+  m.readOptional("block_relu", &a.block_relu);          // the IMO release's ReLU after each block
+  m.readOptional("window_padding", &a.window_padding);  // receptive field may exceed the window
   m.finish();
   train::validateTcnShape(m, a);
   return a;
@@ -38,6 +56,13 @@ learned::TcnArchitecture readModel(const ConfigReader& m, std::string* inputs) {
 learned::DisplacementTrainOptions readTraining(const ConfigReader& t) {
   learned::DisplacementTrainOptions o;
   train::readOptimizationKeys(t, &o);
+  std::string loss = "mse", perturbation = "gaussian";
+  t.readChoice("loss", &loss, {"mse", "huber"});
+  o.loss = loss == "huber" ? learned::DisplacementLoss::kHuber : learned::DisplacementLoss::kMse;
+  t.readInRange("huber_delta", &o.huber_delta, 1e-6, 100.0);
+  t.readChoice("orientation_perturbation", &perturbation, {"gaussian", "uniform_angle"});
+  o.orientation_perturbation = perturbation == "uniform_angle" ? learned::OrientationPerturbation::kUniformAngle
+                                                               : learned::OrientationPerturbation::kGaussian;
   t.readInRange("orientation_sigma_deg", &o.orientation_sigma_deg, 0.0, 45.0);
   t.readInRange("gyro_bias_range", &o.gyro_bias_range, 0.0, 1.0);
   t.readInRange("accel_bias_range", &o.accel_bias_range, 0.0, 10.0);
@@ -53,10 +78,14 @@ int run() {
   const ConfigReader data = config.section("data");
   std::vector<std::string> train_paths;
   data.read("train", &train_paths);
-  double block_seconds = 5.0, thrust_coefficient = 0.0, mass = 0.0;
-  int validation_every = 6;
+  double block_seconds = 5.0, thrust_coefficient = 0.0, mass = 0.0, gap_seconds = 1.0;
+  int validation_every = 6, folds = 0;
   data.readInRange("validation_block_seconds", &block_seconds, 0.5, 1000.0);
   data.readInRange("validation_every", &validation_every, 2, 1000);
+  data.readInRange("cross_validation_folds", &folds, 0, 100);  // 0: interleaved blocks as above
+  data.readInRange("cross_validation_gap_seconds", &gap_seconds, 0.0, 100.0);
+  std::string cv_by = "blocks";  // blocks: fold k = the k-th block of each flight; flights: the
+  data.readChoice("cross_validation_by", &cv_by, {"blocks", "flights"});  // flights i % folds == k
   data.readInRange("thrust_coefficient", &thrust_coefficient, 0.0, 1.0);
   data.readInRange("mass", &mass, 0.0, 1000.0);
   data.finish();
@@ -67,6 +96,18 @@ int run() {
   config.optionalSection("output").readChoice("encoding", &encoding, {"float32", "text"});
   config.finish();
   if (train_paths.empty()) throw InputError(FLAGS_config, 0, "data.train lists no flights");
+  if (FLAGS_fold >= 0 && (folds < 2 || FLAGS_fold >= folds))
+    throw InputError(FLAGS_config, 0, "--fold " + std::to_string(FLAGS_fold) + " needs data.cross_validation_folds > it");
+  if (FLAGS_fold >= 0 && FLAGS_epochs > 0) throw InputError("", 0, "--fold and --epochs exclude each other");
+  std::array<double, 3> fixed_sigma{};
+  if (FLAGS_epochs > 0) {
+    char rest = 0;
+    if (std::sscanf(FLAGS_output_sigma.c_str(), "%lf,%lf,%lf%c", &fixed_sigma[0], &fixed_sigma[1],
+                    &fixed_sigma[2], &rest) != 3 ||
+        !(fixed_sigma[0] > 0 && fixed_sigma[1] > 0 && fixed_sigma[2] > 0))
+      throw InputError("", 0, "--epochs needs --output_sigma x,y,z (three positive numbers, m)");
+    options.fixed_epochs = FLAGS_epochs;
+  }
   options.kind = learned::displacementInputKindFromString(inputs);
   options.checkpoint_dir = FLAGS_checkpoint_dir;
   if (!options.checkpoint_dir.empty()) {
@@ -79,16 +120,46 @@ int run() {
   source.thrust_coefficient = thrust_coefficient;
   source.mass = mass;
   source.rate_hz = arch.sample_rate_hz;
-  // Every validation_every-th block of each flight is held out for early stopping and the
-  // output sigma.
+  // Held out: fold k's contiguous block of each flight, or every validation_every-th block;
+  // with --epochs nothing.
   std::vector<learned::FlightSamples> train_flights, validation_flights;
-  for (const auto& p : train_paths) {
+  for (std::size_t i = 0; i < train_paths.size(); ++i) {
+    const std::string& p = train_paths[i];
     const learned::FlightSamples f = train::loadFlight(p, source);
-    train::splitIntoBlocks(f, static_cast<std::size_t>(block_seconds * arch.sample_rate_hz),
-                           static_cast<std::size_t>(validation_every), &train_flights,
-                           &validation_flights);
+    if (FLAGS_epochs > 0) {
+      train_flights.push_back(f);
+    } else if (FLAGS_fold >= 0 && cv_by == "flights") {
+      const bool test = static_cast<int>(i % static_cast<std::size_t>(folds)) == FLAGS_fold;
+      (test ? validation_flights : train_flights).push_back(f);
+      if (test) std::cout << p << ": fold " << FLAGS_fold << " of " << folds << " tests on this flight\n";
+    } else if (FLAGS_fold >= 0) {
+      const learned::BlockFold fold = learned::contiguousBlockFold(
+          f.size(), folds, FLAGS_fold, static_cast<std::size_t>(gap_seconds * arch.sample_rate_hz));
+      for (const auto& r : fold.train) train_flights.push_back(f.slice(r.begin, r.end));
+      validation_flights.push_back(f.slice(fold.test.begin, fold.test.end));
+      std::cout << p << ": fold " << FLAGS_fold << " of " << folds << " tests on samples [" << fold.test.begin
+                << ", " << fold.test.end << ")\n";
+    } else {
+      train::splitIntoBlocks(f, static_cast<std::size_t>(block_seconds * arch.sample_rate_hz),
+                             static_cast<std::size_t>(validation_every), &train_flights,
+                             &validation_flights);
+    }
     std::cout << p << ": " << f.size() << " samples (" << f.size() / arch.sample_rate_hz << " s)\n";
   }
+  if (FLAGS_benchmark_batches > 0) {
+    for (int threads : {1, 2}) {
+      learned::DisplacementTrainer bench(arch, options);
+      double cpu = 0.0;
+      const double rate = bench.trainingWindowsPerSecond(train_flights, FLAGS_benchmark_batches, threads, &cpu);
+      std::cout << "training throughput, " << threads << " thread(s): " << rate << " windows/s wall, "
+                << FLAGS_benchmark_batches * options.batch_size / cpu << " windows per CPU second (batch "
+                << options.batch_size << ", " << FLAGS_benchmark_batches << " batches)\n";
+    }
+    return 0;
+  }
+  if (FLAGS_save_every > 0 && options.checkpoint_dir.empty())
+    throw InputError("", 0, "--save_every needs --checkpoint_dir");
+  options.save_every = FLAGS_save_every;
 
   learned::DisplacementTrainer trainer(arch, options);
   const learned::DisplacementTrainingResult result = trainer.train(train_flights, validation_flights, std::cout);
@@ -98,15 +169,28 @@ int run() {
   std::cout << "best epoch " << result.best_epoch << " of " << result.history.size() - 1
             << ": validation MSE " << first.validation_loss << " -> " << best.validation_loss
             << " m^2, RMSE per axis " << s.transpose() << " m\n";
+  if (!options.checkpoint_dir.empty()) {
+    std::ofstream h(options.checkpoint_dir + "/history.csv");
+    h << "epoch,train_loss,validation_mse,validation_mse_x,validation_mse_y,validation_mse_z,seconds\n";
+    h << std::setprecision(9);
+    for (const auto& e : result.history)
+      h << e.epoch << ',' << e.train_loss << ',' << e.validation_loss << ',' << e.validation_axis_mse.x() << ','
+        << e.validation_axis_mse.y() << ',' << e.validation_axis_mse.z() << ',' << e.seconds << '\n';
+  }
   learned::TcnFileInfo info;
   info.task = "displacement";
   info.inputs = inputs;
-  info.output_sigma = {s.x(), s.y(), s.z()};
+  info.output_sigma = FLAGS_epochs > 0 ? std::vector<double>{fixed_sigma[0], fixed_sigma[1], fixed_sigma[2]}
+                                       : std::vector<double>{s.x(), s.y(), s.z()};
+  const std::string how =
+      FLAGS_epochs > 0
+          ? "\n" + std::to_string(FLAGS_epochs) + " epochs on all of data.train (--epochs), output_sigma " +
+                FLAGS_output_sigma + " (--output_sigma, from the cross-validation folds)"
+          : "\nbest epoch " + std::to_string(result.best_epoch) + " of " +
+                std::to_string(result.history.size() - 1) + ", validation MSE " +
+                std::to_string(best.validation_loss) + " m^2";
   learned::saveTcnFile(result.best, info, FLAGS_out,
-                       "trained by hdvio_train_displacement --config " + FLAGS_config + "\nbest epoch " +
-                           std::to_string(result.best_epoch) + " of " +
-                           std::to_string(result.history.size() - 1) + ", validation MSE " +
-                           std::to_string(best.validation_loss) + " m^2",
+                       "trained by hdvio_train_displacement --config " + FLAGS_config + how,
                        encoding == "text" ? learned::TcnEncoding::kText : learned::TcnEncoding::kFloat32);
   std::cout << "wrote " << FLAGS_out << "\n";
   return 0;

@@ -167,6 +167,7 @@ UpdateOutcome ImoFilter::update(const RelativePositionMeasurement& m) {
   const Vec3 r = m.z - predictMeasurement(m);
   const Eigen::LDLT<Mat3> S_ldlt(S);
   last_chi2_ = r.dot(S_ldlt.solve(r));
+  last_innovation_ = {r, S, last_chi2_};
   if (options_.mahalanobis_factor > 0.0 &&
       last_chi2_ > options_.mahalanobis_factor * kChi2Threshold3Dof)
     return UpdateOutcome::kRejectedByGate;

@@ -181,8 +181,10 @@ void ImoStepper::Impl::atGrid(Timestamp t_end) {
   } else {
     const RelativePositionMeasurement meas = displacementMeasurement(
         *est, i, j, options.use_source_covariance ? est->covariance : fixed_cov);
-    if (filter->update(meas) == UpdateOutcome::kApplied) ++out.updates;
+    const bool applied = filter->update(meas) == UpdateOutcome::kApplied;
+    if (applied) ++out.updates;
     else ++out.rejected;
+    out.innovations.push_back({t_end, filter->lastInnovation(), applied});
   }
   while (!filter->clones().empty() && filter->clones().front().t <= t_begin)
     filter->marginalizeClone(0);

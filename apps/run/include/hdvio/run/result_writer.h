@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "hdvio/backend/imo/imo_runner.h"
 #include "hdvio/core/nav_state.h"
 
 namespace hdvio::run {
@@ -37,6 +38,8 @@ struct RunResults {
   // residual force plus the drag law at the state's velocity, if configured; empty when the
   // method has neither (then the total non-thrust force is f_ext alone).
   std::vector<Vec3> residual_force_B;
+  // Displacement updates of the inertial filters (innovations.csv); empty for other methods.
+  std::vector<imo::UpdateInnovation> innovations;
 };
 
 // Throws InputError unless out_dir is absent, empty, or an earlier hdvio result (which will be

@@ -76,6 +76,15 @@ struct RelativePositionMeasurement {
 
 enum class UpdateOutcome { kApplied, kRejectedByGate };
 
+// The innovation of a displacement update: residual r = z - h(x) before the update, its
+// covariance S = H P H' + R and the normalized innovation squared r' S^-1 r (3 on average,
+// 1 per axis, when P and R describe the errors).
+struct Innovation {
+  Vec3 residual = Vec3::Zero();
+  Mat3 covariance = Mat3::Identity();
+  double nis = 0.0;
+};
+
 // One discrete propagation step of the nominal state with bias-free rates held constant over dt,
 // and its error-state transition A (15 x 15) and noise input B (15 x 6, [gyro; accel] noise).
 // Dense form of propagateStep (imo_propagation.h) for tests and analysis; the filter uses the blocks.
@@ -122,6 +131,8 @@ class ImoFilter {
   // Full covariance (15 + 9 N square).
   MatX covariance() const;
   double lastMahalanobis() const { return last_chi2_; }
+  // Of the last update() (displacement measurements; gated ones too).
+  const Innovation& lastInnovation() const { return last_innovation_; }
 
   // h(x) and its Jacobian for a measurement (public for tests).
   Vec3 predictMeasurement(const RelativePositionMeasurement& m) const;
@@ -152,6 +163,7 @@ class ImoFilter {
   MatX P_;
   Mat15 phi_ = Mat15::Identity();
   double last_chi2_ = 0.0;
+  Innovation last_innovation_;
 };
 
 }  // namespace hdvio::imo

@@ -30,6 +30,13 @@ struct ImoRunOptions {
   bool initial_window_biases = false;
 };
 
+// One displacement update of the filter (applied or gated out).
+struct UpdateInnovation {
+  Timestamp t = 0;  // the window's end (grid time)
+  Innovation innovation;
+  bool applied = true;
+};
+
 struct ImoRunOutput {
   std::vector<NavState> states;  // one per IMU sample after the first (filter), per update (net only)
   // Thread CPU time per stage; together the whole run. propagation = IMU steps and per-sample
@@ -40,6 +47,7 @@ struct ImoRunOutput {
   int updates = 0;
   int rejected = 0;      // by the chi-square gate
   int no_measurement = 0;  // source returned nothing
+  std::vector<UpdateInnovation> innovations;  // filter only, one per update
 };
 
 // Throws std::invalid_argument for inconsistent options (window not a multiple of the period).

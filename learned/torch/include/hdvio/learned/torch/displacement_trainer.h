@@ -1,9 +1,10 @@
 #pragma once
 // Trains the displacement network of IMO / TLIO-style inertial odometry (displacement_model.h)
-// with an MSE loss on the world-frame displacement over the window. Augmentation per window
-// and epoch, as the filter will see: the ground-truth attitude that rotates the inputs to the
-// world is perturbed by a small random rotation Exp(delta) R_k (constant over the window), and
-// a constant gyro (and, for accelerometer inputs, accelerometer) bias error is added.
+// with an MSE or Huber loss on the world-frame displacement over the window. Augmentation per
+// window and epoch, as the filter will see: the ground-truth attitude that rotates the inputs
+// to the world is perturbed by a small random rotation Exp(delta) R_k (constant over the
+// window), and a constant gyro (and, for accelerometer inputs, accelerometer) bias error is
+// added.
 #include <ostream>
 #include <string>
 #include <vector>
@@ -14,6 +15,16 @@
 
 namespace hdvio::learned {
 
+enum class DisplacementLoss {
+  kMse,    // squared error summed over the axes, mean over the batch
+  kHuber,  // torch's HuberLoss(delta) mean over batch and axes (the IMO release, delta 0.5 m)
+};
+
+enum class OrientationPerturbation {
+  kGaussian,      // delta ~ N(0, sigma^2) per axis
+  kUniformAngle,  // random axis, angle ~ U(0, sigma) (the IMO release's datasets.py)
+};
+
 struct DisplacementTrainOptions {
   DisplacementInputKind kind = DisplacementInputKind::kThrustGyro;
   int stride_samples = 5;              // spacing of window ends (0.05 s at 100 Hz)
@@ -21,19 +32,29 @@ struct DisplacementTrainOptions {
   double learning_rate = 5e-4;         // Adam
   int max_epochs = 200;
   int patience = 20;                   // epochs without validation improvement before stopping
-  double orientation_sigma_deg = 2.0;  // std of each axis of delta
+  DisplacementLoss loss = DisplacementLoss::kMse;
+  double huber_delta = 0.5;            // m
+  OrientationPerturbation orientation_perturbation = OrientationPerturbation::kGaussian;
+  double orientation_sigma_deg = 2.0;  // per-axis std (Gaussian) or largest angle (uniform)
   double gyro_bias_range = 0.01;       // rad/s, uniform in [-r, r] per axis
   double accel_bias_range = 0.2;       // m/s^2, accelerometer inputs only
   int seed = 7;
   int threads = 1;
   double max_minutes = 10.0;           // wall-clock budget; stops after the epoch that exceeds it
+  // > 0: train exactly this many epochs and keep the last weights (no early stopping; the
+  // final network after cross-validation chose the count). Validation flights may be empty.
+  int fixed_epochs = 0;
+  // > 0 (with checkpoint_dir): epoch_<e>.tcn every this many epochs, a displacement weight file
+  // whose output_sigma is that epoch's per-axis validation RMSE (cross-validation folds).
+  int save_every = 0;
   std::string checkpoint_dir;          // "" = none; else best.tcn at each improvement
 };
 
 struct DisplacementEpoch {
   int epoch = 0;
   double train_loss = 0.0;       // mean squared displacement error, m^2 (augmented inputs)
-  double validation_loss = 0.0;  // same on the validation windows (unperturbed inputs)
+  double validation_loss = 0.0;  // mean squared error on the validation windows (unperturbed inputs)
+  Eigen::Vector3d validation_axis_mse = Eigen::Vector3d::Zero();  // per axis, m^2
   double seconds = 0.0;
 };
 
@@ -64,11 +85,20 @@ class DisplacementTrainer {
                                    const std::vector<FlightSamples>& validation_flights,
                                    std::ostream& log);
 
+  // Training throughput: windows per second (wall clock) of `batches` optimizer steps
+  // (augmentation, forward, backward, Adam) on the flights' windows, with `threads` threads.
+  // Changes the weights (a benchmark, not a training). cpu_seconds (optional): the process CPU
+  // time of the timed batches (all threads).
+  double trainingWindowsPerSecond(const std::vector<FlightSamples>& flights, int batches, int threads,
+                                  double* cpu_seconds = nullptr);
+
   TcnModule& module() { return module_; }
 
  private:
-  // Mean squared error (m^2) of one pass; trains (with augmentation) when optimizer is given.
-  double pass(const DisplacementSet& set, torch::optim::Adam* optimizer);
+  // Per-axis mean squared error (m^2) of one pass; trains (with augmentation) when optimizer
+  // is given.
+  Eigen::Vector3d pass(const DisplacementSet& set, torch::optim::Adam* optimizer);
+  torch::Tensor loss(const torch::Tensor& prediction, const torch::Tensor& target) const;
   torch::Tensor augment(const DisplacementSet& set, const torch::Tensor& idx) const;
 
   TcnArchitecture arch_;

@@ -17,6 +17,7 @@ struct EpochLoopOptions {
   double max_minutes = 0.0;    // wall-clock budget; stops after the epoch that exceeds it
   std::string checkpoint_dir;  // "" = none; else best.tcn at each improvement
   bool save_module = false;    // also checkpoint.pt (the torch module) after every epoch
+  bool keep_last = false;      // a fixed epoch count: the last epoch counts as best, no patience
 };
 
 struct EpochLoopResult {

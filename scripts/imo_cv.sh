@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# Cross-validated IMO network on Blackbird (issue 21), nothing chosen on `val`:
+#  1. train the folds of config/learned/imo_cv_blackbird.yaml (contiguous blocks of `train`),
+#     one at a time, one thread, nice 10 (a fold whose history.csv exists is kept);
+#  2. choose the epoch count and the output sigma on the folds (scripts/imo_cv_select.py);
+#  3. run the filter with each fold's network at that epoch on its held-out block of `train`
+#     (innovations.csv -> NIS, ATE): choose the attitude error convention by the mean fold ATE,
+#     then calibrate the per-axis sigma so the NIS is ~1 per axis (two scaling steps);
+#  4. train the final network (<work dir>/final.tcn) on all of the training data with that epoch
+#     count and sigma.
+# Usage (from the repository root, data under ../shared/data):
+#   scripts/imo_cv.sh <build dir with libtorch> <work dir> [training config]
+# (default config/learned/imo_cv_blackbird.yaml; with cross_validation_by: flights, as
+# config/learned/imo_cv_dido.yaml, the filter runs on each fold's held-out flights, whole).
+set -euo pipefail
+B=${1:?build dir}; W=${2:?work dir}; CFG=${3:-config/learned/imo_cv_blackbird.yaml}
+DATA=../shared/data
+FOLDS=$(sed -n 's/^ *cross_validation_folds: *\([0-9]*\).*/\1/p' $CFG)
+THRUST=$(sed -n 's/^ *thrust_coefficient: *\([0-9.eE+-]*\).*/\1/p' $CFG)
+SAVE_EVERY=5
+mkdir -p "$W"
+for ((k = 0; k < FOLDS; ++k)); do
+  [ -f "$W/fold$k/history.csv" ] && continue
+  nice -n 10 "$B/apps/train/hdvio_train_displacement" --config $CFG --fold $k --save_every $SAVE_EVERY \
+      --checkpoint_dir "$W/fold$k" --out "$W/fold$k/fold$k.tcn" > "$W/fold$k.log" 2>&1
+done
+folds=(); for ((k = 0; k < FOLDS; ++k)); do folds+=("$W/fold$k"); done
+python3 scripts/imo_cv_select.py --save_every $SAVE_EVERY "${folds[@]}" | tee "$W/selection.txt"
+E=$(sed -n 's/^final: --epochs \([0-9]*\) .*/\1/p' "$W/selection.txt")
+SIGMA=$(sed -n 's/^final: .*--output_sigma \(.*\)$/\1/p' "$W/selection.txt")
+# Filter runs with fold k's network at epoch E on what fold k held out: its block of the
+# training flight (the trainer logged the sample range at 100 Hz) or its flights, whole
+# (logged "tests on this flight"): run_folds <tag> <rotation_error> <sigma x,y,z>.
+run_folds() {
+  local tag=$1 rot=$2 sigma=$3
+  for ((k = 0; k < FOLDS; ++k)); do
+    local j=0
+    while read -r path b e; do
+      local run="$W/run_fold${k}_${tag}_$j" span=""
+      [ -n "$b" ] && span="run:
+  start_offset_s: $(echo "$b / 100" | bc -l)
+  duration_s: $(echo "($e - $b) / 100" | bc -l)"
+      cat > "$run.yaml" <<YAML
+method: imo
+network:
+  weights: $(realpath "$W/fold$k/epoch_$E.tcn")
+filter:
+  update_rate_hz: 20
+  use_source_covariance: false
+  measurement_sigma: [${sigma//,/, }]
+  rotation_error: $rot
+$( [ "$THRUST" != "0.0" ] && printf 'thrust:\n  coefficient_over_mass: %s\n  axis: [0, 0, 1]' "$THRUST")
+$span
+YAML
+      rm -rf "$run"
+      "$B/apps/run/hdvio_run" --config "$run.yaml" --dataset "$DATA/$path" --out "$run" > "$run.log" 2>&1
+      echo "$tag fold $k $path ATE posyaw [m]: $(grep -m1 "^| imo |" "$run/evaluation/table.md" | cut -d"|" -f4)"
+      j=$((j + 1))
+    done < <(sed -n -e 's/^\([^ ]*\): fold [0-9]* of [0-9]* tests on samples \[\([0-9]*\), \([0-9]*\)).*/\1 \2 \3/p' \
+                    -e 's/^\([^ ]*\): fold [0-9]* of [0-9]* tests on this flight$/\1/p' "$W/fold$k.log")
+  done
+  python3 scripts/innovation_stats.py "$W"/run_fold*_${tag}_*[0-9]
+}
+# The filter's attitude error convention, by the folds' mean ATE (ties: the default, right).
+for rot in right left; do run_folds $rot $rot "$SIGMA"; done | tee "$W/folds_filter.txt"
+mean_ate() { grep "^$1 fold" "$W/folds_filter.txt" | awk '{s += $NF} END {printf "%.4f", s / NR}'; }
+ROT=$(awk -v r="$(mean_ate right)" -v l="$(mean_ate left)" 'BEGIN {print (l < r) ? "left" : "right"}')
+echo "rotation_error $ROT (mean fold ATE right $(mean_ate right), left $(mean_ate left))" | tee -a "$W/folds_filter.txt"
+# Calibration: twice, scale each axis's sigma by the folds' sqrt(mean (r / sigma)^2), so the
+# displacement updates' NIS on data the networks were not fit on is ~1 per axis.
+for it in 1 2; do
+  SCALE=$(grep "^sigma scale" <(run_folds "cal$((it - 1))" $ROT "$SIGMA") | awk '{print $(NF-2), $(NF-1), $NF}')
+  SIGMA=$(echo "$SIGMA $SCALE" | tr ',' ' ' | awk '{printf "%.6f,%.6f,%.6f", $1 * $4, $2 * $5, $3 * $6}')
+  echo "calibration $it: output_sigma $SIGMA" | tee -a "$W/folds_filter.txt"
+done
+run_folds cal2 $ROT "$SIGMA" | tee -a "$W/folds_filter.txt"
+[ -f "$W/final.tcn" ] || nice -n 10 "$B/apps/train/hdvio_train_displacement" --config $CFG --epochs "$E" \
+    --output_sigma "$SIGMA" --checkpoint_dir "$W/final" --out "$W/final.tcn" > "$W/final.log" 2>&1
+echo "final network: $W/final.tcn ($E epochs, output_sigma $SIGMA, filter rotation_error $ROT)"
