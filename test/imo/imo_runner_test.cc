@@ -185,7 +185,9 @@ TEST(ImoRunner, InnovationsAreLoggedAndTheirNisMatchesTheMeasurementNoise) {
     for (std::size_t k = 0; k < out.innovations.size(); ++k) {
       const UpdateInnovation& u = out.innovations[k];
       EXPECT_TRUE(u.applied);
-      if (k > 0) EXPECT_EQ(u.t - out.innovations[k - 1].t, fromSeconds(0.05));
+      if (k > 0) {
+        EXPECT_EQ(u.t - out.innovations[k - 1].t, fromSeconds(0.05));
+      }
       const Innovation& in = u.innovation;
       EXPECT_NEAR(in.nis, in.residual.dot(in.covariance.ldlt().solve(in.residual)), 1e-9 * (1.0 + in.nis));
       // S = H P H' + R: the state's uncertainty adds to the measurement's.
