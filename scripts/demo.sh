@@ -83,7 +83,7 @@ if [ -x "$ov_runner" ] || [ -n "${OV_GIT_DIR:-}" ]; then
        > "$out/openvins.log" 2>&1; then
     grep -h "ms/image" "$out/openvins.log" || true
     estimates="$estimates,openvins=$out/openvins/stamped_traj_estimate.txt"
-  else  # the peer is not part of the product: its column is left out, and the table says so
+  else  # the peer is not part of the product: its column is left out with a message
     tail -n 5 "$out/openvins.log" >&2
     echo "OpenVINS column skipped: its run failed (log: $out/openvins.log)"
   fi
