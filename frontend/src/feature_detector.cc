@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <opencv2/features2d.hpp>
+
 namespace hdvio::frontend {
 
 FeatureGrid::FeatureGrid(int width, int height, int cell_size)
@@ -70,18 +72,22 @@ std::vector<Corner> detectCorners(const Pyramid& pyramid, const DetectorOptions&
   std::vector<Corner> best(grid.cells());
   const int levels = std::min<int>(options.levels, static_cast<int>(pyramid.size()));
   const int border = std::max(options.border, 5);
+  std::vector<cv::KeyPoint> candidates;
   for (int level = 0; level < levels; ++level) {
     const cv::Mat& img = pyramid[level];
     const double scale = 1 << level;
-    for (int y = border; y < img.rows - border; ++y) {
-      for (int x = border; x < img.cols - border; ++x) {
-        const Eigen::Vector2d px(x * scale, y * scale);
-        const int cell = grid.cellIndex(px);
-        if (cell < 0 || occupied[cell]) continue;
-        if (!isFastCorner(img, x, y, options.fast_threshold)) continue;
-        const double score = shiTomasiScore(img, x, y);
-        if (score > best[cell].score) best[cell] = Corner{px, level, score};
-      }
+    // OpenCV's FAST-9 is the same strict segment test as isFastCorner (checked against it in
+    // detector_test) with SIMD; it returns corners row by row, left to right, so the first of
+    // equal scores wins as in a raster scan.
+    cv::FAST(img, candidates, options.fast_threshold, false, cv::FastFeatureDetector::TYPE_9_16);
+    for (const cv::KeyPoint& kp : candidates) {
+      const int x = static_cast<int>(kp.pt.x), y = static_cast<int>(kp.pt.y);
+      if (x < border || y < border || x >= img.cols - border || y >= img.rows - border) continue;
+      const Eigen::Vector2d px(x * scale, y * scale);
+      const int cell = grid.cellIndex(px);
+      if (cell < 0 || occupied[cell]) continue;
+      const double score = shiTomasiScore(img, x, y);
+      if (score > best[cell].score) best[cell] = Corner{px, level, score};
     }
   }
   std::vector<Corner> corners;

@@ -1,4 +1,7 @@
+#include <algorithm>
+
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include "hdvio/core/error.h"
 #include "hdvio/frontend/feature_detector.h"
@@ -41,6 +44,55 @@ TEST(FrontendDetector, AtMostOneCornerPerFreeCell) {
   EXPECT_TRUE(detectCorners(buildPyramid(cv::Mat(240, 320, CV_8UC1, cv::Scalar(9)), 3),
                             DetectorOptions(), grid, std::vector<bool>(grid.cells(), false))
                   .empty());
+}
+
+// The raster scan the detector must equal: every pixel through isFastCorner, best score per cell,
+// the first of equal scores kept.
+std::vector<Corner> rasterDetect(const Pyramid& pyr, const DetectorOptions& o, const FeatureGrid& grid,
+                                 const std::vector<bool>& occupied) {
+  std::vector<Corner> best(grid.cells());
+  const int border = std::max(o.border, 5);
+  for (int level = 0; level < o.levels; ++level) {
+    const cv::Mat& img = pyr[level];
+    for (int y = border; y < img.rows - border; ++y)
+      for (int x = border; x < img.cols - border; ++x) {
+        const Eigen::Vector2d px(x * (1 << level), y * (1 << level));
+        const int cell = grid.cellIndex(px);
+        if (cell < 0 || occupied[cell] || !isFastCorner(img, x, y, o.fast_threshold)) continue;
+        const double score = shiTomasiScore(img, x, y);
+        if (score > best[cell].score) best[cell] = Corner{px, level, score};
+      }
+  }
+  std::vector<Corner> out;
+  for (const Corner& c : best)
+    if (c.score > o.min_score) out.push_back(c);
+  return out;
+}
+
+TEST(FrontendDetector, EqualsTheRasterScanOfTheSegmentTest) {
+  cv::Mat img(240, 320, CV_8UC1);
+  cv::RNG rng(7);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(img, img, cv::Size(5, 5), 1.2);  // texture with corners at many scores
+  img(cv::Rect(100, 60, 80, 70)).setTo(128);         // a flat cell block: no corners there
+  const Pyramid pyr = buildPyramid(img, 3);
+  const FeatureGrid grid(320, 240, 32);
+  std::vector<bool> occupied(grid.cells(), false);
+  occupied[3] = occupied[17] = true;
+  for (int threshold : {5, 15, 30}) {
+    DetectorOptions o;
+    o.fast_threshold = threshold;
+    o.min_score = 5.0;
+    const std::vector<Corner> fast = detectCorners(pyr, o, grid, occupied);
+    const std::vector<Corner> ref = rasterDetect(pyr, o, grid, occupied);
+    ASSERT_GT(ref.size(), 20u) << threshold;
+    ASSERT_EQ(fast.size(), ref.size()) << threshold;
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      EXPECT_EQ(fast[i].px, ref[i].px) << threshold << " " << i;
+      EXPECT_EQ(fast[i].level, ref[i].level);
+      EXPECT_EQ(fast[i].score, ref[i].score);
+    }
+  }
 }
 
 TEST(FrontendPyramid, HalvesAndAverages) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -19,7 +20,7 @@
 #include "hdvio/core/config.h"
 #include "hdvio/eval/alignment.h"
 #include "hdvio/io/asl.h"
-#include "hdvio/pipeline/visual_sequence_runner.h"
+#include "hdvio/run/result_writer.h"
 #include "hdvio/sim/simulator.h"
 
 namespace hdvio {
@@ -181,6 +182,49 @@ TEST_F(VisualPipeline, CoveredCameraFallsBackToImuAndRecovers) {
   EXPECT_TRUE(out.images.back().used_by_backend);
   const PositionError e = positionError(seq, out.vio.states);
   EXPECT_LT(e.max, 0.3);
+}
+
+TEST(TimeQuantiles, NearestRankOfMeasuredTimes) {
+  std::vector<double> ms;
+  for (int i = 20; i >= 1; --i) ms.push_back(i);  // 1 .. 20 ms, unsorted
+  const run::TimeQuantiles q = run::timeQuantiles(ms);
+  EXPECT_DOUBLE_EQ(q.mean, 10.5);
+  EXPECT_DOUBLE_EQ(q.p50, 10.0);  // rank ceil(0.5 * 20) = 10
+  EXPECT_DOUBLE_EQ(q.p90, 18.0);  // rank 18
+  EXPECT_DOUBLE_EQ(q.max, 20.0);
+  EXPECT_DOUBLE_EQ(run::timeQuantiles({7.0}).p90, 7.0);
+  EXPECT_TRUE(std::isnan(run::timeQuantiles({}).mean));
+}
+
+TEST_F(VisualPipeline, WritesTheTimeOfEveryImage) {
+  const fs::path cfg = dir_ / "timed.yaml";
+  std::ofstream(cfg) << "method: vio\nrun: {init_from_groundtruth: true}\nfrontend:\n"
+                        "  source: images\n  detector: {cell_size: 16}\n";
+  const fs::path out = dir_ / "timed";
+  const Outcome o = runTool("--config " + cfg.string() + " --dataset " + (dir_ / "seq").string() +
+                            " --out " + out.string() + " --evaluate=false");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  // One row per image the frontend saw (all but those before the ground-truth start).
+  const std::vector<double> ms = run::readImageProcessingMs((out / "timing_images.csv").string());
+  EXPECT_GE(ms.size() + 1, sequence_->images.size());
+  EXPECT_LE(ms.size(), sequence_->images.size());
+  for (double x : ms) EXPECT_GT(x, 0.0);
+  std::ifstream stages(out / "timing_stages.csv");
+  std::string line;
+  std::getline(stages, line);
+  EXPECT_EQ(line, "stage,total [s],calls,mean [ms],p50 [ms],p90 [ms],max [ms]");
+  int timed = 0;
+  while (std::getline(stages, line)) {
+    if (line.rfind("frontend,", 0) != 0 && line.rfind("backend,", 0) != 0) continue;
+    double v[6];
+    ASSERT_EQ(std::sscanf(line.c_str() + line.find(',') + 1, "%lf,%lf,%lf,%lf,%lf,%lf", &v[0],
+                          &v[1], &v[2], &v[3], &v[4], &v[5]), 6) << line;
+    EXPECT_EQ(static_cast<std::size_t>(v[1]), ms.size()) << line;
+    EXPECT_LE(v[3], v[4]) << line;  // p50 <= p90 <= max
+    EXPECT_LE(v[4], v[5]) << line;
+    ++timed;
+  }
+  EXPECT_EQ(timed, 2);
 }
 
 TEST_F(VisualPipeline, MissingImagesAreClearErrors) {

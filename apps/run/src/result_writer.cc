@@ -1,10 +1,13 @@
 #include "hdvio/run/result_writer.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <string>
 
 #include "hdvio/core/error.h"
 
@@ -20,6 +23,43 @@ std::ofstream openOut(const fs::path& path) {
   return f;
 }
 }  // namespace
+
+TimeQuantiles timeQuantiles(std::vector<double> ms) {
+  TimeQuantiles q;
+  if (ms.empty()) return {NAN, NAN, NAN, NAN};
+  std::sort(ms.begin(), ms.end());
+  const auto rank = [&ms](double p) {
+    const auto k = static_cast<std::size_t>(std::ceil(p * static_cast<double>(ms.size())));
+    return ms[std::min(ms.size(), std::max<std::size_t>(k, 1)) - 1];
+  };
+  for (double x : ms) q.mean += x;
+  q.mean /= static_cast<double>(ms.size());
+  q.p50 = rank(0.5);
+  q.p90 = rank(0.9);
+  q.max = ms.back();
+  return q;
+}
+
+std::vector<double> readImageProcessingMs(const std::string& path) {
+  std::vector<double> ms;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    // #timestamp,load,frontend,backend,...
+    double v[4];
+    std::size_t pos = 0;
+    bool ok = true;
+    for (int i = 0; i < 4 && ok; ++i) {
+      const std::size_t end = line.find(',', pos);
+      ok = end != std::string::npos;
+      if (ok) v[i] = std::atof(line.substr(pos, end - pos).c_str());
+      pos = end + 1;
+    }
+    if (ok) ms.push_back(v[2] + v[3]);
+  }
+  return ms;
+}
 
 void checkOutputFolder(const std::string& out_dir) {
   const fs::path dir(out_dir);
@@ -90,10 +130,27 @@ void writeResults(const RunResults& r, const std::string& out_dir) {
     timing << f.t << ',' << f.backend_ms << ',' << f.solver_iterations << ',' << f.landmarks << ','
            << f.observations << ',' << (f.keyframe ? 1 : 0) << '\n';
   auto stages = openOut(tmp / "timing_stages.csv");
-  stages << "stage,total [s],calls,mean [ms]\n";
-  for (const auto& s : r.stages)
+  stages << "stage,total [s],calls,mean [ms],p50 [ms],p90 [ms],max [ms]\n";
+  for (const auto& s : r.stages) {
     stages << s.stage << ',' << s.total_s << ',' << s.calls << ','
-           << (s.calls > 0 ? 1e3 * s.total_s / s.calls : 0.0) << '\n';
+           << (s.calls > 0 ? 1e3 * s.total_s / s.calls : 0.0);
+    if (s.call_ms.empty()) {
+      stages << ",,,\n";
+    } else {
+      const TimeQuantiles q = timeQuantiles(s.call_ms);
+      stages << ',' << q.p50 << ',' << q.p90 << ',' << q.max << '\n';
+    }
+  }
+  std::ofstream images;
+  if (!r.images.empty()) {
+    images = openOut(tmp / "timing_images.csv");
+    images << "#timestamp [ns],load [ms],frontend [ms],backend [ms],tracked_features,"
+              "frontend_keyframe,used_by_backend\n";
+    for (const ImageTiming& im : r.images)
+      images << im.t << ',' << im.load_ms << ',' << im.frontend_ms << ',' << im.backend_ms << ','
+             << im.tracked_features << ',' << (im.frontend_keyframe ? 1 : 0) << ','
+             << (im.used_by_backend ? 1 : 0) << '\n';
+  }
   auto cfg = openOut(tmp / "config.yaml");
   cfg << r.effective_config;
   for (auto* f : {&traj, &vel, &bias, &timing, &stages, &cfg}) {
@@ -114,7 +171,7 @@ void writeResults(const RunResults& r, const std::string& out_dir) {
       innovations << ',' << in.nis << ',' << (u.applied ? 1 : 0) << '\n';
     }
   }
-  for (auto* f : {&force, &residual, &total, &innovations}) {
+  for (auto* f : {&force, &residual, &total, &innovations, &images}) {
     if (!f->is_open()) continue;
     f->close();
     if (!*f) throw InputError(tmp.string(), 0, "writing results failed (disk full?)");

@@ -71,6 +71,7 @@ class VisualPipeline : public MethodPipeline {
                        "rotor calibration), the sequence has none");
     RunResults results;
     VioRunOutput out;
+    std::vector<double> backend_ms;  // per image (on images; per frame on tracks: timing.csv)
     if (resolveObservationSource(frontend_.source, seq) == ObservationSource::kTracks) {
       out = runVioOnTracks(seq, options_, run_, provider_);
       std::fprintf(stderr, "hdvio_run: started from the %s initialization at %.2f s\n",
@@ -84,8 +85,17 @@ class VisualPipeline : public MethodPipeline {
       results.stages.push_back({"initialization", images.init_time_s, images.init_images});
       results.stages.push_back({"image_loading", images.load_time_s,
                                 static_cast<int>(images.images.size())});
-      results.stages.push_back({"frontend", images.frontend_time_s,
-                                static_cast<int>(images.images.size())});
+      StageTiming frontend{"frontend", images.frontend_time_s,
+                           static_cast<int>(images.images.size()), {}};
+      backend_ms.reserve(images.images.size());
+      for (const ImageFrameRecord& im : images.images) {
+        results.images.push_back({im.t, im.load_ms, im.frontend_ms, im.backend_ms,
+                                  im.tracked_features, im.frontend_keyframe != 0,
+                                  im.used_by_backend});
+        frontend.call_ms.push_back(im.frontend_ms);
+        backend_ms.push_back(im.backend_ms);
+      }
+      results.stages.push_back(std::move(frontend));
     }
 
     results.states = out.states;
@@ -95,7 +105,8 @@ class VisualPipeline : public MethodPipeline {
     for (const auto& f : out.frames)
       results.timing.push_back({f.state.t, 1e3 * f.solve_time_s, f.solver_iterations,
                                 f.landmarks_in_window, f.observations_used, f.keyframe});
-    results.stages.push_back({"backend", out.backend_time_s, static_cast<int>(out.frames.size())});
+    results.stages.push_back({"backend", out.backend_time_s, static_cast<int>(out.frames.size()),
+                              std::move(backend_ms)});
     return results;
   }
 

@@ -133,7 +133,8 @@ ImageStep VisualEstimator::addImage(Timestamp t, const cv::Mat& pixels) {
   const FrameResult br = first ? firstResult(backend_) : backend_.addFrame(frame);
   // Feedback: the optimized window keyframes and landmarks into the frontend's map.
   if (br.processed && config.backend_feedback) fe.applyBackendEstimate(backendEstimate(backend_, fe));
-  backend_s_ += secondsSince(t0);
+  rec.backend_ms = 1e3 * secondsSince(t0);
+  backend_s_ += rec.backend_ms * 1e-3;
   if (br.processed) {
     if (!plausible(br.state))
       throw std::runtime_error("hdvio_run: the backend diverged at t=" +

@@ -31,8 +31,9 @@ struct RunMetrics {
   double realtime_factor = NAN;    // duration / runtime (> 1: faster than real time)
   double process_wall_s = NAN;     // whole hdvio_run process, when hdvio_bench ran it
   // Peers: the per-image time the peer printed (a line with "<what> ms/image: mean <x> median
-  // <y>", optionally "images <n>"); runtime_s is then mean x images.
-  double ms_per_image_mean = NAN, ms_per_image_median = NAN;
+  // <y>", optionally "images <n>"); runtime_s is then mean x images. Experiments on images:
+  // frontend + backend per image from timing_images.csv (decoding excluded, as for the peer).
+  double ms_per_image_mean = NAN, ms_per_image_median = NAN, ms_per_image_p90 = NAN;
   std::string peer_timing;         // <what>: the word before "ms/image" (what the time counts)
 };
 
