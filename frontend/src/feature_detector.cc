@@ -51,18 +51,21 @@ bool isFastCorner(const cv::Mat& img, int x, int y, int threshold) {
 }
 
 double shiTomasiScore(const cv::Mat& img, int x, int y) {
-  double a = 0.0, b = 0.0, c = 0.0;
+  // Central differences are half-integers: sum twice the gradients in integers (exact, and
+  // vectorizable), then scale; the sums are the same numbers a double loop would add up.
+  int sxx = 0, sxy = 0, syy = 0;
   const int stride = static_cast<int>(img.step.p[0]);
   for (int dy = -4; dy < 4; ++dy) {
     const unsigned char* p = img.ptr<unsigned char>(y + dy) + x - 4;
     for (int dx = 0; dx < 8; ++dx, ++p) {
-      const double gx = 0.5 * (p[1] - p[-1]);
-      const double gy = 0.5 * (p[stride] - p[-stride]);
-      a += gx * gx;
-      b += gx * gy;
-      c += gy * gy;
+      const int gx = p[1] - p[-1];
+      const int gy = p[stride] - p[-stride];
+      sxx += gx * gx;
+      sxy += gx * gy;
+      syy += gy * gy;
     }
   }
+  const double a = 0.25 * sxx, b = 0.25 * sxy, c = 0.25 * syy;
   const double n = 64.0;
   return 0.5 * (a + c - std::sqrt((a - c) * (a - c) + 4.0 * b * b)) / n;
 }
