@@ -77,6 +77,8 @@ TEST_F(BenchMatrix, RejectsBadInputWithFileAndLine) {
       {std::string(kGood) + "metricz: {}\n", "metricz': unknown key"},
       {std::string(kGood) + "metrics: {alignment: best}\n", "not one of"},
       {std::string(kGood) + "seeds: [1, 1]\n", "distinct"},
+      {std::string(kGood) + "image_noise_sigma: 1.0\n", "image_noise_sigma': needs 'seeds'"},
+      {std::string(kGood) + "seeds: [1]\nimage_noise_sigma: -1\n", "image_noise_sigma"},
       {"experiments:\n  - {name: a, config: exp/missing.yaml}\nsequences:\n  - {name: r, dataset: data}\n",
        ":2: key 'experiments[0].config': no such file"},
       {"experiments:\n  - {name: a, config: exp/a.yaml, extra: 1}\nsequences:\n  - {name: r, dataset: data}\n",
@@ -187,7 +189,16 @@ TEST_F(BenchMatrix, SeededCopyKeepsTheExperimentAndItsRelativeFiles) {
   EXPECT_EQ(copy["method"].as<std::string>(), "vio");
   EXPECT_EQ(copy["run"]["seed"].as<int>(), 42);
   EXPECT_EQ(copy["residual_force"]["weights"].as<std::string>(), (dir_ / "exp" / "weights.txt").string());
+  EXPECT_FALSE(copy["run"]["image_noise_sigma"]);
   EXPECT_FALSE(runCompleted(job));
+
+  // With image noise, every seeded copy carries it beside its seed.
+  const Matrix noisy = loadMatrix(write(std::string(kGood) + "seeds: [7]\nimage_noise_sigma: 1.5\n"));
+  const RunJob noisy_job = expandJobs(noisy, (dir_ / "out2").string(), "real/a")[0];
+  prepareJobConfig(noisy, noisy_job);
+  const YAML::Node noisy_copy = YAML::LoadFile(noisy_job.config);
+  EXPECT_EQ(noisy_copy["run"]["seed"].as<int>(), 7);
+  EXPECT_DOUBLE_EQ(noisy_copy["run"]["image_noise_sigma"].as<double>(), 1.5);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
@@ -137,6 +138,10 @@ Matrix loadMatrix(const std::string& path) {
     if (s < 0 || !seeds.insert(s).second)
       throw InputError(path, raw["seeds"].Mark().line + 1,
                        "key 'seeds': seeds must be distinct and non-negative");
+  cfg.readInRange("image_noise_sigma", &m.image_noise_sigma, 0.0, 50.0);
+  if (m.image_noise_sigma > 0.0 && m.seeds.empty())
+    throw InputError(path, raw["image_noise_sigma"].Mark().line + 1,
+                     "key 'image_noise_sigma': needs 'seeds' (it varies with the seed)");
 
   const ConfigReader metrics = cfg.optionalSection("metrics");
   std::string alignment = "posyaw";
@@ -225,10 +230,16 @@ void prepareJobConfig(const Matrix& matrix, const RunJob& job) {
   YAML::Node doc = YAML::LoadFile(original);
   absolutizePaths(doc, fs::path(original).parent_path());
   doc["run"]["seed"] = *job.seed;
+  std::string what = "run.seed = " + std::to_string(*job.seed);
+  if (matrix.image_noise_sigma > 0.0) {
+    doc["run"]["image_noise_sigma"] = matrix.image_noise_sigma;
+    std::ostringstream sigma;
+    sigma << matrix.image_noise_sigma;
+    what += ", run.image_noise_sigma = " + sigma.str();
+  }
   YAML::Emitter out;
   out << doc;
-  eval::writeFileAtomically(job.config, "# " + original + " with run.seed = " +
-                                            std::to_string(*job.seed) + " (hdvio_bench)\n" +
+  eval::writeFileAtomically(job.config, "# " + original + " with " + what + " (hdvio_bench)\n" +
                                             out.c_str() + "\n");
 }
 

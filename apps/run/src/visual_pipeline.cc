@@ -29,6 +29,7 @@ class VisualPipeline : public MethodPipeline {
     r.readInRange("vi_init_window_s", &run_.vi_init_window_s, 0.5, 10.0);
     r.readInRange("vi_init_timeout_s", &run_.vi_init_timeout_s, 0.0, 60.0);
     r.readInRange("pixel_noise_sigma", &run_.pixel_noise_sigma, 0.0, 100.0);
+    r.readInRange("image_noise_sigma", &run_.image_noise_sigma, 0.0, 50.0);
     int seed = static_cast<int>(run_.seed);
     r.readInRange("seed", &seed, 0, 1 << 30);
     run_.seed = static_cast<std::uint32_t>(seed);

@@ -81,6 +81,23 @@ void logStart(const VioRunOutput& out, Timestamp first_image_t) {
 
 }  // namespace
 
+cv::Mat withImageNoise(const cv::Mat& gray, double sigma, std::uint32_t seed, Timestamp t) {
+  // splitmix64 of (seed, t): neighbouring stamps and seeds give unrelated streams.
+  std::uint64_t z = (static_cast<std::uint64_t>(seed) << 32) ^ static_cast<std::uint64_t>(t);
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  cv::RNG rng(z | 1);  // cv::RNG treats 0 as a special state
+  cv::Mat noise(gray.size(), CV_32F);
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, sigma);
+  cv::Mat out;
+  gray.convertTo(out, CV_32F);
+  out += noise;
+  out.convertTo(out, CV_8U);  // rounds to nearest and saturates to 0..255
+  return out;
+}
+
 std::vector<FrameObservations> framesFromTracks(const Sequence& seq, double sigma,
                                                 std::uint32_t seed) {
   std::mt19937 rng(seed);
@@ -149,8 +166,12 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
   // Decoding runs on one I/O thread ahead of the estimator; load_ms is what this thread waited.
   // Each image is checked against the calibration (size, 8-bit, complete file): exit 2 at the image.
   const CameraCalibration* camera = &*seq.camera;
-  io::ImagePrefetcher images(seq.images, 4,
-                             [camera](const ImageRef& r) { return io::loadImage(r, camera); });
+  const double noise = run.image_noise_sigma;
+  const std::uint32_t seed = run.seed;
+  io::ImagePrefetcher images(seq.images, 4, [camera, noise, seed](const ImageRef& r) {
+    const cv::Mat pixels = io::loadImage(r, camera);
+    return noise > 0.0 ? withImageNoise(pixels, noise, seed, r.t) : pixels;
+  });
   for (const ImageRef& ref : seq.images) {
     if (on_image) on_image(ref.t);
     feeder.feedUntil(&est, ref.t);

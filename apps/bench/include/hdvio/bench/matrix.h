@@ -10,6 +10,7 @@
 //   peers:                            # optional: external estimators run beside the experiments
 //     - {name: openvins, command: ../../../shared/peers/openvins/run.sh}
 //   seeds: [1, 2, 3]                  # optional: written as run.seed into copies of the experiments
+//   image_noise_sigma: 1.0            # optional, with seeds: written as run.image_noise_sigma
 //   metrics: {alignment: posyaw, plots: true}
 //
 // Relative paths are resolved against the matrix file's folder.
@@ -47,6 +48,9 @@ struct Matrix {
   std::vector<MatrixSequence> sequences;
   std::vector<MatrixPeer> peers;  // columns after the experiments; not seeded
   std::vector<int> seeds;  // empty: each experiment's own run.seed
+  // > 0 (only with seeds): the seeded copies also get run.image_noise_sigma, so that runs on
+  // camera images differ by seed (the visual methods' noise on decoded images).
+  double image_noise_sigma = 0.0;
   eval::AlignmentType alignment = eval::AlignmentType::kPosYaw;
   bool plots = true;
 };

@@ -43,6 +43,11 @@ struct ImageRunOutput {
 std::vector<FrameObservations> framesFromTracks(const Sequence& seq, double pixel_noise_sigma,
                                                 std::uint32_t seed);
 
+// The image plus Gaussian noise of sigma gray levels (rounded, saturated), drawn from OpenCV's
+// own generator seeded by (seed, t): the same on every machine and independent of the order
+// in which images are decoded.
+cv::Mat withImageNoise(const cv::Mat& gray, double sigma, std::uint32_t seed, Timestamp t);
+
 // Throws InputError when the sequence lacks a camera, IMU, tracks or (dynamics methods) thrust,
 // or no first state could be decided.
 VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& options,

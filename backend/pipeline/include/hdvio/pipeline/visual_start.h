@@ -29,6 +29,9 @@ struct VioRunOptions {
   double guess_velocity_sigma = 1.0;  // prior sigmas of the guessed first state (m/s, rad)
   double guess_tilt_sigma = 0.1;
   double pixel_noise_sigma = 0.0;      // added to simulated tracks (visual_sequence_runner.h)
+  // Gaussian noise (gray levels) added to every decoded camera image, from (seed, timestamp):
+  // runs on images differ by seed, so a result can be judged over several seeds of one flight.
+  double image_noise_sigma = 0.0;
   std::uint32_t seed = 1;
 };
 
