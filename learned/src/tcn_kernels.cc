@@ -55,6 +55,7 @@ inline __attribute__((always_inline)) void convolveBlock(const PackedConv& w, co
 template <int kRows, int kWide, bool kFma>
 inline __attribute__((always_inline)) void convolveColumns(const PackedConv& w, const float* const* x,
                                                            const int* first_tap, int n, float* Y) {
+  static_assert(kWide >= 1 && kWide <= 4, "the remainder switch handles up to 3 columns");
   const int taps = w.taps;
   auto at = [&](int c) { return x + static_cast<long>(c) * taps; };
   auto out = [&](int c) { return Y + static_cast<long>(c) * w.rows; };
@@ -67,10 +68,6 @@ inline __attribute__((always_inline)) void convolveColumns(const PackedConv& w, 
     case 1: convolveBlock<kRowBlock, 1, kFma>(w, at(c), first_tap[c], out(c)); break;
     default: break;
   }
-}
-
-void convolveDefault(const PackedConv& w, const float* const* x, const int* first_tap, int n, float* Y) {
-  convolveColumns<8, 4, false>(w, x, first_tap, n, Y);
 }
 
 #ifdef HDVIO_TCN_AVX2
@@ -144,11 +141,15 @@ PackedConv packConv(const MatrixXf& weight, const VectorXf& bias, int taps) {
   return p;
 }
 
+void convolvePortable(const PackedConv& w, const float* const* x, const int* first_tap, int n, float* Y) {
+  convolveColumns<8, 4, false>(w, x, first_tap, n, Y);
+}
+
 void convolve(const PackedConv& conv, const float* const* inputs, const int* first_tap, int n, float* Y) {
 #ifdef HDVIO_TCN_AVX2
   if (hasAvx2Fma()) return convolveAvx2(conv, inputs, first_tap, n, Y);
 #endif
-  convolveDefault(conv, inputs, first_tap, n, Y);
+  convolvePortable(conv, inputs, first_tap, n, Y);
 }
 
 void gelu(float* x, long n) {

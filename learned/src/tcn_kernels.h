@@ -38,6 +38,10 @@ PackedConv packConv(const MatrixXf& weight, const VectorXf& bias, int taps);
 // point at zeros.
 void convolve(const PackedConv& conv, const float* const* inputs, const int* first_tap, int n,
               float* Y);
+// The plain x86-64 kernel that convolve uses on CPUs without AVX2 + FMA (exposed for tests:
+// the same products without fused multiply-adds).
+void convolvePortable(const PackedConv& conv, const float* const* inputs, const int* first_tap, int n,
+                      float* Y);
 
 // Exact GELU x Phi(x) (Eigen's float erf), in place on n floats.
 void gelu(float* x, long n);
