@@ -20,6 +20,25 @@ Mat3 orthonormalized(const Mat3& R) { return Quat(R).normalized().toRotationMatr
 // load time): without fused multiply-adds both give the same doubles as Eigen's SSE2 code of
 // the same expressions (same operations in the same order).
 
+// Columns first..end-1 of the top 15 rows of P become phi (15 x 15, column-major) times them,
+// and rows first..end-1 of the first 15 columns their transpose: one column at a time as 15
+// axpys (no heap, no GEMM set-up for 15 rows).
+__attribute__((target_clones("avx2", "default"))) void applyToColumns(const double* phi, double* P,
+                                                                      long stride, int first, int end) {
+  for (int c = first; c < end; ++c) {
+    double* col = P + c * stride;
+    double out[kStateDim] = {};
+    for (int k = 0; k < kStateDim; ++k) {
+      const double v = col[k];
+      for (int i = 0; i < kStateDim; ++i) out[i] += phi[k * kStateDim + i] * v;
+    }
+    for (int i = 0; i < kStateDim; ++i) {
+      col[i] = out[i];
+      P[i * stride + c] = out[i];
+    }
+  }
+}
+
 // P -= K U' + U K' on the lower triangle of the n x n column-major P (leading dimension
 // stride); K and U are n x 3, column-major.
 __attribute__((target_clones("avx2", "default"))) void subtractSymmetricRank6(
@@ -98,12 +117,7 @@ void ImoFilter::propagate(const Vec3& gyro, const Vec3& accel, Timestamp t_next)
 void ImoFilter::syncCrossCovariance() {
   const int nc = dim() - kStateDim;
   if (nc > 0 && !phi_.isIdentity(0.0)) {
-    // Column by column with a fixed-size product: no heap and no GEMM packing for 15 rows.
-    for (int c = kStateDim; c < kStateDim + nc; ++c) {
-      const Eigen::Matrix<double, kStateDim, 1> cross = phi_.lazyProduct(P_.block<kStateDim, 1>(0, c));
-      P_.block<kStateDim, 1>(0, c) = cross;
-      P_.block<1, kStateDim>(c, 0) = cross.transpose();
-    }
+    applyToColumns(phi_.data(), P_.data(), P_.rows(), kStateDim, kStateDim + nc);
   }
   phi_.setIdentity();
 }
