@@ -86,7 +86,12 @@ DisplacementModel DisplacementModel::load(const std::string& path) {
 }
 
 DisplacementPrediction DisplacementModel::predict(const MatrixXf& window) const {
-  const TcnOutput out = tcn_.predictWindow(window);
+  TcnWorkspace workspace;
+  return predict(window, &workspace);
+}
+
+DisplacementPrediction DisplacementModel::predict(const MatrixXf& window, TcnWorkspace* workspace) const {
+  const TcnOutput out = tcn_.predictWindow(window, workspace);
   DisplacementPrediction p;
   p.displacement = out.force.cast<double>();
   if (tcn_.architecture().variance_head) {

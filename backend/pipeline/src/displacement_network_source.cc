@@ -27,8 +27,10 @@ imo::DisplacementSource networkDisplacementSource(
   auto covered = [w](const auto& stream, Timestamp t_end) {
     return !stream.empty() && stream.front().t <= t_end - w && stream.back().t >= t_end;
   };
+  // The network's scratch is part of the source: each copy of the std::function has its own.
   return [model = std::move(model), imu = std::move(imu), thrust = std::move(thrust), use_thrust, covered, w,
-          repeat_next_at](const imo::DisplacementRequest& r) -> std::optional<imo::DisplacementEstimate> {
+          repeat_next_at, workspace = learned::TcnWorkspace()](
+             const imo::DisplacementRequest& r) mutable -> std::optional<imo::DisplacementEstimate> {
     if (!covered(*imu, r.t_end) || (use_thrust && !covered(*thrust, r.t_end))) return std::nullopt;
     learned::MatrixXf window;
     if (repeat_next_at && r.t_end - 2 * w <= *repeat_next_at) {
@@ -43,7 +45,7 @@ imo::DisplacementSource networkDisplacementSource(
       window = learned::makeDisplacementWindow(*model, *imu, *thrust, r.t_end, r.world_from_body, r.gyro_bias,
                                                r.accel_bias);
     }
-    const learned::DisplacementPrediction p = model->predict(window);
+    const learned::DisplacementPrediction p = model->predict(window, &workspace);
     imo::DisplacementEstimate e;
     e.z = p.displacement;
     e.covariance = p.covariance;

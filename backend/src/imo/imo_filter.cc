@@ -16,6 +16,59 @@ int cloneOffset(int k) { return kStateDim + kCloneDim * k; }
 // Re-orthonormalize through a unit quaternion (cheaper than an SVD at IMU rate).
 Mat3 orthonormalized(const Mat3& R) { return Quat(R).normalized().toRotationMatrix(); }
 
+// The covariance loops below are plain C++ compiled twice (AVX2 and plain x86-64, picked at
+// load time): without fused multiply-adds both give the same doubles as Eigen's SSE2 code of
+// the same expressions (same operations in the same order).
+
+// Columns first..end-1 of the top 15 rows of P become phi (15 x 15, column-major) times them,
+// and rows first..end-1 of the first 15 columns their transpose: one column at a time as 15
+// axpys (no heap, no GEMM set-up for 15 rows).
+__attribute__((target_clones("avx2", "default"))) void applyToColumns(const double* phi, double* P,
+                                                                      long stride, int first, int end) {
+  for (int c = first; c < end; ++c) {
+    double* col = P + c * stride;
+    double out[kStateDim] = {};
+    for (int k = 0; k < kStateDim; ++k) {
+      const double v = col[k];
+      for (int i = 0; i < kStateDim; ++i) out[i] += phi[k * kStateDim + i] * v;
+    }
+    for (int i = 0; i < kStateDim; ++i) {
+      col[i] = out[i];
+      P[i * stride + c] = out[i];
+    }
+  }
+}
+
+// P -= K U' + U K' on the lower triangle of the n x n column-major P (leading dimension
+// stride); K and U are n x 3, column-major.
+__attribute__((target_clones("avx2", "default"))) void subtractSymmetricRank6(
+    double* P, long stride, int n, const double* K, const double* U) {
+  const double *K0 = K, *K1 = K + n, *K2 = K + 2 * n, *U0 = U, *U1 = U + n, *U2 = U + 2 * n;
+  for (int c = 0; c < n; ++c) {
+    const double u0 = U0[c], u1 = U1[c], u2 = U2[c], k0 = K0[c], k1 = K1[c], k2 = K2[c];
+    double* col = P + c * stride;
+    for (int r = c; r < n; ++r)
+      col[r] -= u0 * K0[r] + u1 * K1[r] + u2 * K2[r] + k0 * U0[r] + k1 * U1[r] + k2 * U2[r];
+  }
+}
+
+// Upper triangle = lower triangle, in 4 x 4 tiles: each tile reads four short runs of the lower
+// triangle and writes four short runs of the upper one (a plain loop reads one element per
+// cache line).
+__attribute__((target_clones("avx2", "default"))) void mirrorLowerTriangle(double* P, long stride, int n) {
+  constexpr int kTile = 4;
+  for (int c0 = 0; c0 < n; c0 += kTile) {
+    const int c1 = std::min(n, c0 + kTile);
+    for (int r0 = 0; r0 < c1; r0 += kTile) {
+      const int r1 = std::min(c1 - 1, r0 + kTile);  // rows r < c only
+      for (int r = r0; r < r1; ++r) {
+        const double* lower = P + r * stride;  // column r: element (c, r) at lower[c]
+        for (int c = std::max(c0, r + 1); c < c1; ++c) P[c * stride + r] = lower[c];
+      }
+    }
+  }
+}
+
 }  // namespace
 
 PropagationStep propagateNominal(const ImoNominalState& x, const Vec3& gyro, const Vec3& accel,
@@ -64,9 +117,7 @@ void ImoFilter::propagate(const Vec3& gyro, const Vec3& accel, Timestamp t_next)
 void ImoFilter::syncCrossCovariance() {
   const int nc = dim() - kStateDim;
   if (nc > 0 && !phi_.isIdentity(0.0)) {
-    const MatX cross = phi_ * P_.block(0, kStateDim, kStateDim, nc);
-    P_.block(0, kStateDim, kStateDim, nc) = cross;
-    P_.block(kStateDim, 0, nc, kStateDim) = cross.transpose();
+    applyToColumns(phi_.data(), P_.data(), P_.rows(), kStateDim, kStateDim + nc);
   }
   phi_.setIdentity();
 }
@@ -172,23 +223,18 @@ UpdateOutcome ImoFilter::update(const RelativePositionMeasurement& m) {
       last_chi2_ > options_.mahalanobis_factor * kChi2Threshold3Dof)
     return UpdateOutcome::kRejectedByGate;
 
-  const Eigen::Matrix<double, Eigen::Dynamic, 3> K = S_ldlt.solve(PHt.transpose()).transpose();
+  // K = P H' S^-1 and K S below as lazy (coefficient-wise) products: GEMM and triangular-solve
+  // set-up would cost more than the n x 3 x 3 multiply-adds.
+  const Mat3 S_inv = S_ldlt.solve(Mat3::Identity());
+  const Eigen::Matrix<double, Eigen::Dynamic, 3> K = PHt.lazyProduct(S_inv);
   // Joseph form (I - KH) P (I - KH)' + K R K', expanded with P H' so it costs O(n^2):
   // P - K H P - P H' K' + K S K' = P - (K U' + U K') with U = P H' - K S / 2. The lower
   // triangle is updated column by column (six axpys each) and mirrored, so the result is
   // symmetric by construction and nothing n x n is allocated.
-  const Eigen::Matrix<double, Eigen::Dynamic, 3> U = PHt - 0.5 * K * S;
-  double* data = P_.data();
-  const long stride = P_.rows();
-  for (int c = 0; c < n; ++c) {
-    const int len = n - c;
-    Eigen::Map<VecX> col(data + c * stride + c, len);
-    col -= U(c, 0) * K.col(0).tail(len) + U(c, 1) * K.col(1).tail(len) + U(c, 2) * K.col(2).tail(len) +
-           K(c, 0) * U.col(0).tail(len) + K(c, 1) * U.col(1).tail(len) + K(c, 2) * U.col(2).tail(len);
-  }
-  for (int c = 1; c < n; ++c)
-    for (int row = 0; row < c; ++row) data[c * stride + row] = data[row * stride + c];  // upper = lower
-  inject(K * r);
+  const Eigen::Matrix<double, Eigen::Dynamic, 3> U = PHt - 0.5 * K.lazyProduct(S);
+  subtractSymmetricRank6(P_.data(), P_.rows(), n, K.data(), U.data());
+  mirrorLowerTriangle(P_.data(), P_.rows(), n);
+  inject(K.lazyProduct(r));
   return UpdateOutcome::kApplied;
 }
 

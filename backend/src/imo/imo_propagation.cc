@@ -105,8 +105,9 @@ void propagateCovariance(const StepTransition& A, double gyro_var, double accel_
   G << A.theta_bg, A.vel_bg, 0.5 * A.dt * A.vel_bg;
   Eigen::Matrix<double, 6, 3> F;
   F << A.vel_ba, 0.5 * A.dt * A.vel_ba;
-  P->topLeftCorner<9, 9>().noalias() += gyro_var * G * G.transpose();
-  P->block<6, 6>(kVel, kVel).noalias() += accel_var * F * F.transpose();
+  // Lazy products: Eigen would call its GEMM for the 9 x 3 x 9 one (sizes above its threshold).
+  P->topLeftCorner<9, 9>().noalias() += gyro_var * G.lazyProduct(G.transpose());
+  P->block<6, 6>(kVel, kVel).noalias() += accel_var * F.lazyProduct(F.transpose());
 }
 
 }  // namespace hdvio::imo

@@ -59,7 +59,9 @@ class DisplacementModel {
   const Tcn& tcn() const { return tcn_; }
 
   // window: 6 x windowSamples(), rows [thrust-or-accel xyz; gyro xyz] rotated to the world
-  // frame, oldest first. Throws std::invalid_argument on a wrong shape.
+  // frame, oldest first. Throws std::invalid_argument on a wrong shape. `workspace`: the
+  // network's scratch (Tcn::predictWindow); without it the call allocates its own.
+  DisplacementPrediction predict(const MatrixXf& window, TcnWorkspace* workspace) const;
   DisplacementPrediction predict(const MatrixXf& window) const;
 
  private:

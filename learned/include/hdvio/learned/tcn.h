@@ -21,6 +21,7 @@
 // architecture.window_padding allows a receptive field longer than the window: the window's
 // outputs then see the causal zero padding (per convolution input), as they did in training
 // (the IMO release: dilations 1 ... 64, receptive field 255 on a 50-sample window).
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,19 @@ struct TcnOutput {
   Eigen::Vector3f log_variance = Eigen::Vector3f::Zero();  // only with a variance head
 };
 
+namespace detail {
+struct TcnInference;  // packed weights and the window's evaluation plan (tcn_plan.h)
+}
+
+// Scratch memory of Tcn::predictWindow: its buffers grow to the largest call and are reused,
+// so that a call allocates nothing once warm. Holds no results; one per thread of calls.
+class TcnWorkspace {
+ private:
+  friend struct detail::TcnInference;
+  std::vector<float> input_, block_input_, mid_, block_output_, skip_, zeros_;
+  std::vector<const float*> tap_inputs_;
+};
+
 class Tcn {
  public:
   // Throws std::invalid_argument if the weights do not fit the architecture or hold NaN/inf.
@@ -100,7 +114,9 @@ class Tcn {
   std::size_t parameterCount() const;
 
   // window: input_channels x architecture().window, oldest sample first, unnormalized.
-  // Evaluates only the time steps the last output depends on.
+  // Evaluates only the time steps the last output depends on; `workspace` is scratch.
+  TcnOutput predictWindow(const MatrixXf& window, TcnWorkspace* workspace) const;
+  // The same with a workspace of its own (allocates per call).
   TcnOutput predictWindow(const MatrixXf& window) const;
 
   // inputs: input_channels x T. Returns (output_channels [+3]) x T, one causal output per step
@@ -108,23 +124,10 @@ class Tcn {
   MatrixXf forwardSequence(const MatrixXf& inputs) const;
 
  private:
-  MatrixXf normalize(const MatrixXf& inputs) const;
-  // Runs the convolution stack on normalized inputs; out_steps[c] lists the steps each
-  // convolution must output (in the coordinates of `x`'s steps, see needed_).
-  MatrixXf runPlain(MatrixXf x, std::vector<int> column_of,
-                    const std::vector<std::vector<int>>& needed) const;
-  MatrixXf runResidual(MatrixXf x, std::vector<int> column_of,
-                       const std::vector<std::vector<int>>& needed) const;
-  MatrixXf run(MatrixXf x, std::vector<int> column_of,
-               const std::vector<std::vector<int>>& needed) const;
-
   TcnArchitecture arch_;
   TcnWeights weights_;
-  // needed_[l]: the time steps of layer l's output that the window's last output depends on
-  // (ascending, in window coordinates); needed_[layers] = {window - 1}. Fixed at construction.
-  // Residual: indexed by convolution, needed_[2l] = block l's input steps (taps of conv_a
-  // and the skip), needed_[2l+1] = conv_a's outputs, needed_[2l+2] = the block's outputs.
-  std::vector<std::vector<int>> needed_;
+  // Immutable after construction, shared by copies.
+  std::shared_ptr<const detail::TcnInference> inference_;
 };
 
 // Exact GELU, x * Phi(x), applied in place (vectorized erf).

@@ -15,6 +15,8 @@ namespace hdvio {
 // where the IMU (or, for a thrust network, the thrust) does not cover the window yet.
 // repeat_next_at (filter.release_first_window_sample, the IMO release's input buffer): in the
 // windows, the IMU and thrust samples at that time take the next samples' values.
+// The source holds the network's scratch memory: calls on one source object must not overlap
+// (copies of it are independent).
 imo::DisplacementSource networkDisplacementSource(
     std::shared_ptr<const learned::DisplacementModel> model,
     std::shared_ptr<const std::vector<ImuSample>> imu,
