@@ -83,14 +83,34 @@ void VioBackend::initialize(const NavState& s) {
   priors.add(std::make_shared<BiasPrior>(B(k), s.bias, NoiseModel::diagonal(bias_sigmas)));
   std::map<Key, Timestamp> times{{X(k), s.t}, {V(k), s.t}, {B(k), s.t}};
   if (usesDynamics(options_.method)) {
-    values.insertVector(F(k), s.f_ext_W);
-    priors.add(std::make_shared<ForcePrior>(F(k), s.f_ext_W,
+    const Vec3 f0 = initialForce(s);
+    values.insertVector(F(k), f0);
+    priors.add(std::make_shared<ForcePrior>(F(k), f0,
                                             NoiseModel::isotropic(3, options_.init_force_sigma)));
     times[F(k)] = s.t;
   }
   smoother_.update(priors, values, times, /*optimize=*/false);
   states_.push_back({k, s.t, true});
   last_keyframe_ = k;
+}
+
+Vec3 VioBackend::initialForce(const NavState& s) const {
+  const Timestamp from = s.t - fromSeconds(options_.init_force_window_s);
+  if (options_.method != VioMethod::kHdvio || !(options_.init_force_window_s > 0.0) ||
+      imu_.empty() || thrust_.empty() || imu_.front().t > from || thrust_.front().t > from ||
+      imu_.back().t < s.t || thrust_.back().t < s.t)
+    return s.f_ext_W;
+  // As the adaptive walk's evidence: accelerometer minus thrust, learned force and drag (at the
+  // state's velocity, held over the span) in the frame at `from`, rotated to the world.
+  const ResidualForceFn force =
+      residual_force_ ? residual_force_(from, s.t, s.bias.head<3>()) : ResidualForceFn();
+  const PreintegratedThrust pit =
+      PreintegratedThrust::integrate(imu_, thrust_, from, s.t, s.bias, options_.thrust, force);
+  const Mat3 R_from = s.T_WB.R() * pit.deltaR().transpose();
+  const Vec3 u = R_from.transpose() * s.v_W;
+  const DragIntegral drag = integrateDrag(pit, options_.dynamics.drag, u, u);
+  const Vec3 f_W = R_from * (pit.correctedGamma(s.bias) - drag.beta) / pit.dt();
+  return f_W.allFinite() ? f_W : s.f_ext_W;
 }
 
 NavState VioBackend::stateAt(std::uint64_t index, Timestamp t) const {

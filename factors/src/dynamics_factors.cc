@@ -1,6 +1,7 @@
 #include "hdvio/factors/dynamics_factors.h"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace hdvio {
 namespace {
@@ -18,7 +19,20 @@ Mat3 evaluateSixKeys(const PointMassDynamics& dynamics, const double* const* x, 
 
 NoiseModelPtr HdvioDynamicsFactor::noiseFor(const PreintegratedThrust& pit,
                                             const DynamicsFactorParams& params) {
-  return PointMassDynamics::noiseFor(pit, params.force_random_walk * std::sqrt(pit.dt()));
+  const double rw = params.force_random_walk;
+  const double dt = pit.dt();
+  if (!(rw > 0.0) || !std::isfinite(rw))
+    throw std::invalid_argument("dynamics factor: force random walk must be positive and finite");
+  // The walk between the interpolated end points is a Brownian bridge B(t), independent of
+  // f_j - f_i; its integrals into alpha (weight dt - t) and beta (weight 1) have per axis
+  // Var = q dt^5/45, q dt^3/12 and Cov = q dt^4/24 (q = rw^2, isotropic, so the same in frame i).
+  const double q = rw * rw;
+  Eigen::Matrix<double, 6, 6> cov = pit.alphaBetaCovariance();
+  cov.topLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 5) / 45.0;
+  cov.topRightCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;
+  cov.bottomLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;
+  cov.bottomRightCorner<3, 3>().diagonal().array() += q * std::pow(dt, 3) / 12.0;
+  return NoiseModel::blockDiagonal<9, 6>(cov, Vec3::Constant(q * dt));
 }
 
 HdvioDynamicsFactor::HdvioDynamicsFactor(Key pose_i, Key vel_i, Key force_i, Key pose_j, Key vel_j,
@@ -31,15 +45,35 @@ HdvioDynamicsFactor::HdvioDynamicsFactor(Key pose_i, Key vel_i, Key force_i, Key
 bool HdvioDynamicsFactor::evaluateError(const double* const* x, double* residual, double** jac) const {
   PointMassDynamics::Jacobians J;
   if (jac) J = {jac[0], jac[1], jac[2], jac[3], jac[4], jac[6]};
-  evaluate({x[0], x[1], x[2], x[3], x[4], x[6]}, residual, jac ? &J : nullptr);
+  const Mat3 Ri = evaluate({x[0], x[1], x[2], x[3], x[4], x[6]}, residual, jac ? &J : nullptr);
   Eigen::Map<const Vec3> f_i(x[2]), f_j(x[5]);
   Eigen::Map<Eigen::Matrix<double, 9, 1>> r(residual);
+  // evaluate() held f_i over [i, j]; the walk's force is interpolated linearly to f_j instead
+  // (its rest is the bridge noise of noiseFor): alpha gets (f_i/3 + f_j/6) dt^2 in place of
+  // f_i dt^2/2, beta (f_i + f_j) dt/2 in place of f_i dt.
+  const double dt = preintegrated().dt();
+  const double ca = dt * dt / 6.0, cb = 0.5 * dt;
+  const Mat3 RiT = Ri.transpose();
+  const Vec3 df_i = RiT * (f_i - f_j);
+  r.segment<3>(0) += ca * df_i;
+  r.segment<3>(3) += cb * df_i;
   r.segment<3>(6) = f_j - f_i;
   if (!jac) return true;
-  if (jac[2]) Eigen::Map<Mat9x3>(jac[2]).block<3, 3>(6, 0) = -1.0 * Mat3::Identity();
+  if (jac[0]) {
+    Eigen::Map<Mat9x6> Jp(jac[0]);
+    Jp.block<3, 3>(0, 3) += ca * hat(df_i);
+    Jp.block<3, 3>(3, 3) += cb * hat(df_i);
+  }
+  if (jac[2]) {
+    Eigen::Map<Mat9x3> Jf(jac[2]);
+    Jf.block<3, 3>(0, 0) += ca * RiT;
+    Jf.block<3, 3>(3, 0) += cb * RiT;
+    Jf.block<3, 3>(6, 0) = -1.0 * Mat3::Identity();
+  }
   if (jac[5]) {
     Eigen::Map<Mat9x3> Jf(jac[5]);
-    Jf.setZero();
+    Jf.block<3, 3>(0, 0) = -ca * RiT;
+    Jf.block<3, 3>(3, 0) = -cb * RiT;
     Jf.block<3, 3>(6, 0) = Mat3::Identity();
   }
   return true;

@@ -3,7 +3,10 @@
 // preintegrated covariance, and it is the model that whitens what Ceres sees.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <type_traits>
+#include <vector>
 
 #include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
@@ -71,13 +74,66 @@ TYPED_TEST(DynamicsNoiseTruth, NoiseModelIsThePreintegratedCovariance) {
   const auto f = makeDynamics<TypeParam>(pit, params);
   const Eigen::MatrixXd C = f->noiseModel().covarianceMatrix();
   ASSERT_EQ(C.rows(), 9);
-  const Eigen::Matrix<double, 6, 6> ab = pit->alphaBetaCovariance();
+  Eigen::Matrix<double, 6, 6> ab = pit->alphaBetaCovariance();
+  if (std::is_same_v<TypeParam, HdvioDynamicsFactor>) {
+    // plus the walk's bridge between the interpolated end points (checked by Monte Carlo below)
+    const double q = 0.7 * 0.7, T = pit->dt();
+    ab.topLeftCorner<3, 3>().diagonal().array() += q * std::pow(T, 5) / 45.0;
+    ab.topRightCorner<3, 3>().diagonal().array() += q * std::pow(T, 4) / 24.0;
+    ab.bottomLeftCorner<3, 3>().diagonal().array() += q * std::pow(T, 4) / 24.0;
+    ab.bottomRightCorner<3, 3>().diagonal().array() += q * std::pow(T, 3) / 12.0;
+  }
   EXPECT_LT((C.topLeftCorner(6, 6) - ab).cwiseAbs().maxCoeff(), 1e-14 * ab.cwiseAbs().maxCoeff());
   EXPECT_EQ(C.topRightCorner(6, 3).cwiseAbs().maxCoeff(), 0.0);
   const double sigma_f = std::is_same_v<TypeParam, HdvioDynamicsFactor> ? 0.7 * std::sqrt(pit->dt()) : 2.5;
   const Eigen::MatrixXd expected_force = Mat3::Identity() * (sigma_f * sigma_f);
   EXPECT_LT((C.bottomRightCorner(3, 3) - expected_force).cwiseAbs().maxCoeff(), 1e-12);
   expectModelWhitens(*f, randomStates(rng, Mat3::Identity()));
+}
+
+// hdvio's force is a random walk that the factor interpolates linearly between f_i and f_j:
+// with exact thrust and states, the alpha / beta residuals are the walk's deviation from that
+// line integrated, and their spread is the bridge part of the noise model. Monte Carlo over
+// walks of density q on a 50-ms interval (the image rate), one axis.
+TEST(DynamicsNoiseTruth, HdvioWalkBridgeCovarianceMatchesMonteCarlo) {
+  std::mt19937 rng(24);
+  std::normal_distribution<double> normal;
+  const double rw = 2.0, q = rw * rw, T = 0.05;
+  const int steps = 200, trials = 20000;
+  const double h = T / steps;
+  double saa = 0.0, sab = 0.0, sbb = 0.0, sbf = 0.0;
+  for (int n = 0; n < trials; ++n) {
+    double w = 0.0, alpha = 0.0, beta = 0.0;  // walk from f_i = 0; residual integrals
+    std::vector<double> path(steps + 1, 0.0);
+    for (int k = 1; k <= steps; ++k) path[k] = path[k - 1] + std::sqrt(q * h) * normal(rng);
+    w = path[steps];
+    for (int k = 0; k < steps; ++k) {  // midpoint rule for the force minus its interpolation
+      const double t = (k + 0.5) * h;
+      const double dev = 0.5 * (path[k] + path[k + 1]) - w * t / T;
+      beta += dev * h;
+      alpha += dev * (T - t) * h;
+    }
+    saa += alpha * alpha;
+    sab += alpha * beta;
+    sbb += beta * beta;
+    sbf += beta * w;
+  }
+  DynamicsFactorParams params;
+  params.force_random_walk = rw;
+  std::vector<DynamicsStep> exact(10, DynamicsStep{T / 10, Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  ThrustNoiseParams tiny;
+  tiny.thrust_noise_density = Vec3::Constant(1e-12);
+  tiny.thrust_direction_noise_density = 1e-12;
+  tiny.gyro_noise_density = 1e-12;
+  tiny.gyro_random_walk = 1e-12;
+  auto pit = std::make_shared<PreintegratedThrust>(PreintegratedThrust::integrate(exact, Vec6::Zero(), tiny));
+  const Eigen::MatrixXd C = HdvioDynamicsFactor::noiseFor(*pit, params)->covarianceMatrix();
+  EXPECT_NEAR(saa / trials, C(0, 0), 0.05 * C(0, 0));
+  EXPECT_NEAR(sab / trials, C(0, 3), 0.05 * C(0, 3));
+  EXPECT_NEAR(sbb / trials, C(3, 3), 0.05 * C(3, 3));
+  // The bridge is independent of the end-point increment: no cross term with r_f.
+  EXPECT_LT(std::abs(sbf / trials), 0.05 * std::sqrt(C(3, 3) * C(6, 6)));
+  EXPECT_EQ(C(3, 6), 0.0);
 }
 
 // Each factor declares only keys its residual depends on: no all-zero Jacobian block.

@@ -19,10 +19,13 @@ double secondsSince(Clock::time_point t0) {
 }
 
 // Without ground truth the first velocity and tilt are guesses: let vision and IMU fix them.
+// The first external force is no guess of the start: hdvio measures it over the static
+// window before the first state (accelerometer minus model).
 VisualEstimatorOptions withStartPriors(VisualEstimatorOptions o) {
   if (!o.start.init_from_groundtruth) {
     o.backend.init_velocity_sigma = std::max(o.backend.init_velocity_sigma, o.start.guess_velocity_sigma);
     o.backend.init_tilt_sigma = std::max(o.backend.init_tilt_sigma, o.start.guess_tilt_sigma);
+    o.backend.init_force_window_s = o.start.static_init_window_s;
   }
   return o;
 }

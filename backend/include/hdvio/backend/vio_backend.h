@@ -74,6 +74,8 @@ class VioBackend {
   };
 
   NavState stateAt(std::uint64_t index, Timestamp t) const;
+  // The first state's force prior mean (options.init_force_window_s).
+  Vec3 initialForce(const NavState& s) const;
   void addInertialFactors(const StateSlot& from, std::uint64_t to, Timestamp t_to,
                           FactorGraph* graph, Values* values);
   bool isKeyframe(std::uint64_t index) const;

@@ -71,6 +71,11 @@ struct VioBackendOptions {
   double init_gyro_bias_sigma = 0.01;
   double init_accel_bias_sigma = 0.1;
   double init_force_sigma = 2.0;
+  // hdvio, > 0: the first state's force prior is centred on the accelerometer-minus-model force
+  // over this span before it (drag law at the state's velocity) instead of state.f_ext_W. For a
+  // guessed start: the walk's only anchor is this prior, and a zero mean in wind made the drag
+  // law explain the wind with an invented velocity (docs/backend.md, static start in wind).
+  double init_force_window_s = 0.0;
 };
 
 // Reads the keys of a `backend:` section; values not given keep their defaults above.

@@ -3,14 +3,17 @@
 // dynamics model, all 9-D [r_alpha, r_beta, r_f] with the point-mass rows of
 // point_mass_dynamics.h. They differ in the force term r_f and so in their keys:
 //   HdvioDynamicsFactor (X_i, V_i, F_i, X_j, V_j, F_j, B_i):
-//       r_f = f_j - f_i                        (random walk, sigma = rw * sqrt(dt))
+//       r_f = f_j - f_i                        (random walk, sigma = rw * sqrt(dt));
+//       its alpha / beta rows take the force linear from f_i to f_j, and the walk's bridge
+//       around that line (q dt^5/45, q dt^4/24, q dt^3/12 per axis, q = rw^2) joins their
+//       covariance: a loose walk must not claim the thrust model's precision inside the interval
 //   VimoDynamicsFactor  (X_i, V_i, F_i, X_j, V_j, B_i):
 //       r_f = f_i                              (zero-mean prior, sigma = prior sigma)
 //   VidDynamicsFactor   (X_i, V_i, F_i, X_j, V_j, B_i):
 //       r_f = f_i - R_i gamma(b_i) / dt        (prior around the mean accelerometer-minus-thrust
 //                                               force, rotated to world; uses the accel bias)
 // Each declares only the keys its residual depends on. noiseModel() is the real covariance,
-// blockdiag(preintegrated [alpha, beta] 6x6, sigma_f^2 I3), whitened with fixed sizes.
+// blockdiag(preintegrated [alpha, beta] 6x6 (+ bridge), sigma_f^2 I3), whitened with fixed sizes.
 #include <memory>
 
 #include "hdvio/core/factor.h"

@@ -4,7 +4,8 @@
 // point-mass residual (HDVIO Eqs. 4-5), rows 0-5 of each factor:
 //   r_alpha = R_i^T (p_j - p_i - v_i dt - 1/2 (g + f_i) dt^2) - (alpha + dalpha_dbg dbg) - alpha_drag
 //   r_beta  = R_i^T (v_j - v_i - (g + f_i) dt)               - (beta  + dbeta_dbg dbg)  - beta_drag
-// f_i is the external force (world frame) held constant over [i, j]; dbg = bg_i - bg used for
+// f_i is the external force (world frame) held constant over [i, j] (HdvioDynamicsFactor adds
+// its interpolation to f_j on top); dbg = bg_i - bg used for
 // preintegration. Its covariance is the preintegrated [alpha, beta] block.
 #include <memory>
 
