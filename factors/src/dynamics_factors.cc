@@ -18,7 +18,7 @@ Mat3 evaluateSixKeys(const PointMassDynamics& dynamics, const double* const* x, 
 
 NoiseModelPtr HdvioDynamicsFactor::noiseFor(const PreintegratedThrust& pit,
                                             const DynamicsFactorParams& params) {
-  return PointMassDynamics::noiseFor(pit, params.force_random_walk * std::sqrt(pit.dt()));
+  return PointMassDynamics::noiseFor(pit, params.drag, params.force_random_walk * std::sqrt(pit.dt()));
 }
 
 HdvioDynamicsFactor::HdvioDynamicsFactor(Key pose_i, Key vel_i, Key force_i, Key pose_j, Key vel_j,
