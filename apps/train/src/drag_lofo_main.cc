@@ -138,7 +138,14 @@ int main(int argc, char** argv) {
       std::printf(" %.1f / %.1f %% |\n", 100.0 * r.coverage.within_1_sigma, 100.0 * r.coverage.within_2_sigma);
     }
     std::printf("\nall flights: ");
-    printLaw(fitOn(flights, terms));
+    const FittedModel all = fitOn(flights, terms);
+    printLaw(all);
+    const DragLaw& d = all.law;  // as hdvio_run backend keys (sigma mass-normalized, m/s^2)
+    std::printf("backend keys:\n  drag_linear: [%.9g, %.9g, %.9g]\n  drag_rotor: [%.9g, %.9g, %.9g]\n"
+                "  drag_quadratic: [%.9g, %.9g, %.9g]\n  drag_lift: %.9g\n  drag_sigma: [%.9g, %.9g, %.9g]\n",
+                d.linear.x(), d.linear.y(), d.linear.z(), d.rotor.x(), d.rotor.y(), d.rotor.z(), d.quadratic.x(),
+                d.quadratic.y(), d.quadratic.z(), d.lift, d.sigma.x(), d.sigma.y(), d.sigma.z());
+    std::printf("thrust_coefficient: %.9g\n", all.thrust_coefficient);
     return 0;
   });
 }

@@ -27,6 +27,7 @@ DEFINE_double(rate_hz, 100.0, "resampling rate (must match the network's)");
 DEFINE_string(drag_linear, "", "drag law alone (no --weights): linear coefficients x,y,z (body, 1/s)");
 DEFINE_string(drag_quadratic, "", "... and quadratic coefficients x,y,z (1/m); see hdvio_train --fit_only");
 DEFINE_string(drag_rotor, "", "... and rotor coefficients x,y,z (1/s at hover thrust); see hdvio_drag_lofo");
+DEFINE_double(drag_lift, 0.0, "... and the translational-lift coefficient (1/m)");
 DEFINE_double(sigma_scale, 1.0, "variance head: multiply its sigma by this (the training flights' "
                                 "calibration factor, printed as 'sigma quantile')");
 DEFINE_string(out_csv, "", "optional per-sample CSV: t, measured, thrust, tcn (mass-normalized)");
@@ -98,11 +99,14 @@ int main(int argc, char** argv) {
       }
     }
     if (!(FLAGS_sigma_scale > 0.0)) throw hdvio::InputError("", 0, "--sigma_scale must be positive");
-    if (!FLAGS_drag_linear.empty() || !FLAGS_drag_quadratic.empty() || !FLAGS_drag_rotor.empty()) {
+    if (!FLAGS_drag_linear.empty() || !FLAGS_drag_quadratic.empty() || !FLAGS_drag_rotor.empty() ||
+        FLAGS_drag_lift != 0.0) {
       if (tcn) throw hdvio::InputError(FLAGS_weights, 0, "give the drag law by --weights or by --drag_* flags, not both");
       drag.linear = coefficientsFlag(FLAGS_drag_linear, "drag_linear");
       drag.quadratic = coefficientsFlag(FLAGS_drag_quadratic, "drag_quadratic");
       drag.rotor = coefficientsFlag(FLAGS_drag_rotor, "drag_rotor");
+      if (!(FLAGS_drag_lift >= 0.0)) throw hdvio::InputError("", 0, "--drag_lift: negative coefficient");
+      drag.lift = FLAGS_drag_lift;
     }
     hdvio::train::FlightSource source;
     source.data_root = FLAGS_data_root;
