@@ -9,7 +9,9 @@
 // components of the held-out flight fall within 1 and 2 sigma. Last, the law, C_T and sigma
 // fitted on all flights (the model to ship).
 //   hdvio_drag_lofo --data_root ../shared/data --data <flights> --mass 0.772 --terms rotor,quadratic
+#include <cstdarg>
 #include <cstdio>
+#include <string>
 
 #include <gflags/gflags.h>
 
@@ -34,6 +36,17 @@ DEFINE_double(rate_hz, 100.0, "resampling rate");
 namespace {
 
 using namespace hdvio;
+
+// Everything is printed at the end, so a bad flight in a later fold leaves no partial table.
+std::string g_report;
+void report(const char* format, ...) {
+  char buf[1024];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buf, sizeof(buf), format, args);
+  va_end(args);
+  g_report += buf;
+}
 
 struct FittedModel {
   double thrust_coefficient = 0.0;
@@ -64,7 +77,7 @@ FittedModel fitOn(const std::vector<std::string>& flights, const DragTerms& term
 
 void printLaw(const FittedModel& m) {
   const DragLaw& d = m.law;
-  std::printf("C_T %.6e N s^2 rad^-2; drag law linear [%.6g, %.6g, %.6g] 1/s, rotor [%.6g, %.6g, %.6g] 1/s, "
+  report("C_T %.6e N s^2 rad^-2; drag law linear [%.6g, %.6g, %.6g] 1/s, rotor [%.6g, %.6g, %.6g] 1/s, "
               "quadratic [%.6g, %.6g, %.6g] 1/m, lift %.6g 1/m; residual sigma [%.4f, %.4f, %.4f] N (%zu samples)\n",
               m.thrust_coefficient, d.linear.x(), d.linear.y(), d.linear.z(), d.rotor.x(), d.rotor.y(),
               d.rotor.z(), d.quadratic.x(), d.quadratic.y(), d.quadratic.z(), d.lift, FLAGS_mass * d.sigma.x(),
@@ -119,33 +132,34 @@ int main(int argc, char** argv) {
     for (int i = 0; i < static_cast<int>(flights.size()); ++i) {
       const learned::FlightFold fold = learned::leaveOneFlightOut(flights, i);
       const FittedModel m = fitOn(fold.train, terms);
-      std::printf("fold %d, held out %s: ", i, fold.test.c_str());
+      report("fold %d, held out %s: ", i, fold.test.c_str());
       printLaw(m);
       results.push_back(scoreHeldOut(fold.test, m));
     }
-    std::printf("\nterms %s: force RMSE F / F_xy / F_z [N] on the held-out flight; the law's sigma "
+    report("\nterms %s: force RMSE F / F_xy / F_z [N] on the held-out flight; the law's sigma "
                 "coverage there (calibrated: 68.3 / 95.4 %%)\n", FLAGS_terms.c_str());
-    std::printf("| held-out flight (samples) | thrust model | thrust + drag law (true v) | NeuroBEM (full state) "
+    report("| held-out flight (samples) | thrust model | thrust + drag law (true v) | NeuroBEM (full state) "
                 "| law / NeuroBEM (F) | within 1 / 2 sigma |\n|---|---|---|---|---|---|\n");
     for (const FoldResult& r : results) {
-      std::printf("| %s (%zu) | %.4f / %.4f / %.4f | %.4f / %.4f / %.4f |", r.flight.c_str(), r.samples,
+      report("| %s (%zu) | %.4f / %.4f / %.4f | %.4f / %.4f / %.4f |", r.flight.c_str(), r.samples,
                   r.thrust.f, r.thrust.f_xy, r.thrust.f_z, r.law.f, r.law.f_xy, r.law.f_z);
       if (r.has_neurobem)
-        std::printf(" %.4f / %.4f / %.4f | %.2fx |", r.neurobem.f, r.neurobem.f_xy, r.neurobem.f_z,
+        report(" %.4f / %.4f / %.4f | %.2fx |", r.neurobem.f, r.neurobem.f_xy, r.neurobem.f_z,
                     r.law.f / r.neurobem.f);
       else
-        std::printf(" - | - |");
-      std::printf(" %.1f / %.1f %% |\n", 100.0 * r.coverage.within_1_sigma, 100.0 * r.coverage.within_2_sigma);
+        report(" - | - |");
+      report(" %.1f / %.1f %% |\n", 100.0 * r.coverage.within_1_sigma, 100.0 * r.coverage.within_2_sigma);
     }
-    std::printf("\nall flights: ");
+    report("\nall flights: ");
     const FittedModel all = fitOn(flights, terms);
     printLaw(all);
     const DragLaw& d = all.law;  // as hdvio_run backend keys (sigma mass-normalized, m/s^2)
-    std::printf("backend keys:\n  drag_linear: [%.9g, %.9g, %.9g]\n  drag_rotor: [%.9g, %.9g, %.9g]\n"
+    report("backend keys:\n  drag_linear: [%.9g, %.9g, %.9g]\n  drag_rotor: [%.9g, %.9g, %.9g]\n"
                 "  drag_quadratic: [%.9g, %.9g, %.9g]\n  drag_lift: %.9g\n  drag_sigma: [%.9g, %.9g, %.9g]\n",
                 d.linear.x(), d.linear.y(), d.linear.z(), d.rotor.x(), d.rotor.y(), d.rotor.z(), d.quadratic.x(),
                 d.quadratic.y(), d.quadratic.z(), d.lift, d.sigma.x(), d.sigma.y(), d.sigma.z());
-    std::printf("thrust_coefficient: %.9g\n", all.thrust_coefficient);
+    report("thrust_coefficient: %.9g\n", all.thrust_coefficient);
+    std::fputs(g_report.c_str(), stdout);
     return 0;
   });
 }
