@@ -105,6 +105,9 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
                          "force_walk_max': must be >= force_random_walk");
   readVec3(c, "drag_linear", &o.dynamics.drag.linear, false);
   readVec3(c, "drag_quadratic", &o.dynamics.drag.quadratic, false);
+  readVec3(c, "drag_rotor", &o.dynamics.drag.rotor, false);
+  c.readInRange("drag_lift", &o.dynamics.drag.lift, 0.0, 10.0);
+  readVec3(c, "drag_sigma", &o.dynamics.drag.sigma, false);
   if (o.dynamics.drag.enabled() && method == VioMethod::kVid)
     throw InputError(c.file(), 0,
                      "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +

@@ -10,8 +10,8 @@ DragIntegral integrateDrag(const PreintegratedThrust& pit, const DragLaw& drag, 
   if (!drag.enabled()) return out;
   for (const PreintegratedThrust::DragNode& n : pit.dragNodes()) {
     const Vec3 u = n.dR.transpose() * ((1.0 - n.s) * u_i + n.s * u_j);
-    const Vec3 m = n.dR * drag.force(u);
-    const Mat3 J = n.dR * drag.jacobian(u) * n.dR.transpose();  // d m / d(interpolated u_i)
+    const Vec3 m = n.dR * drag.force(u, n.thrust);
+    const Mat3 J = n.dR * drag.jacobian(u, n.thrust) * n.dR.transpose();  // d m / d(interpolated u_i)
     out.beta += n.w_beta * m;
     out.alpha += n.w_alpha * m;
     out.dbeta_dui += (n.w_beta * (1.0 - n.s)) * J;
@@ -20,6 +20,16 @@ DragIntegral integrateDrag(const PreintegratedThrust& pit, const DragLaw& drag, 
     out.dalpha_duj += (n.w_alpha * n.s) * J;
   }
   return out;
+}
+
+Mat6 dragCovariance(const PreintegratedThrust& pit, const DragLaw& drag) {
+  if (!drag.enabled() || drag.sigma.isZero(0.0)) return Mat6::Zero();
+  Eigen::Matrix<double, 6, 3> B = Eigen::Matrix<double, 6, 3>::Zero();
+  for (const PreintegratedThrust::DragNode& n : pit.dragNodes()) {
+    B.topRows<3>() += n.w_alpha * n.dR;
+    B.bottomRows<3>() += n.w_beta * n.dR;
+  }
+  return B * drag.sigma.cwiseAbs2().asDiagonal() * B.transpose();
 }
 
 }  // namespace hdvio

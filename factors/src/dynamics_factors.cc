@@ -26,8 +26,9 @@ NoiseModelPtr HdvioDynamicsFactor::noiseFor(const PreintegratedThrust& pit,
   // The walk between the interpolated end points is a Brownian bridge B(t), independent of
   // f_j - f_i; its integrals into alpha (weight dt - t) and beta (weight 1) have per axis
   // Var = q dt^5/45, q dt^3/12 and Cov = q dt^4/24 (q = rw^2, isotropic, so the same in frame i).
+  // The drag law's own error (drag_sigma) adds its held-over-the-interval covariance.
   const double q = rw * rw;
-  Eigen::Matrix<double, 6, 6> cov = pit.alphaBetaCovariance();
+  Eigen::Matrix<double, 6, 6> cov = pit.alphaBetaCovariance() + dragCovariance(pit, params.drag);
   cov.topLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 5) / 45.0;
   cov.topRightCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;
   cov.bottomLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;

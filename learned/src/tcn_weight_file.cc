@@ -259,16 +259,21 @@ TcnFileInfo readInfo(LineCursor& c, bool with_drag_law, bool with_sample_times) 
     }
   }
   if (!with_drag_law) return info;
-  const std::string form = "drag_law <dx> <dy> <dz> <cx> <cy> <cz>";
+  const std::string form = "drag_law <dx> <dy> <dz> <cx> <cy> <cz> [<rx> <ry> <rz> <lift> <sx> <sy> <sz>]";
   c.expectNext(form);
   if (c.tokens()[0] != "drag_law") c.fail("expected \"" + form + "\" or \"drag_law none\"");
   if (!(c.tokens().size() == 2 && c.tokens()[1] == "none")) {
-    c.expectTokens(7, form);
+    const bool extended = c.tokens().size() == 14;  // rotor, lift and sigma are optional
+    if (!extended) c.expectTokens(7, form);
+    DragLaw& d = info.drag_law;
     for (int i = 0; i < 3; ++i) {
-      info.drag_law.linear(i) = c.real(1 + i);
-      info.drag_law.quadratic(i) = c.real(4 + i);
+      d.linear(i) = c.real(1 + i);
+      d.quadratic(i) = c.real(4 + i);
+      if (extended) d.rotor(i) = c.real(7 + i), d.sigma(i) = c.real(11 + i);
     }
-    if ((info.drag_law.linear.array() < 0.0).any() || (info.drag_law.quadratic.array() < 0.0).any())
+    if (extended) d.lift = c.real(10);
+    if ((d.linear.array() < 0.0).any() || (d.quadratic.array() < 0.0).any() || (d.rotor.array() < 0.0).any() ||
+        d.lift < 0.0 || (d.sigma.array() < 0.0).any())
       c.fail("drag_law coefficients must be non-negative");
   }
   if (with_sample_times) info.sample_times = word(c, "sample_times", {"end", "begin"});
@@ -444,12 +449,17 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
     if (with_drag_law && !info->drag_law.enabled()) {
       os << "drag_law none\n";
     } else if (with_drag_law) {
+      // Rotor, lift and sigma only when used: files without them stay as version 3 began.
+      const DragLaw& d = info->drag_law;
+      std::vector<double> c{d.linear.x(), d.linear.y(), d.linear.z(), d.quadratic.x(), d.quadratic.y(),
+                            d.quadratic.z()};
+      if (!d.rotor.isZero(0.0) || d.lift != 0.0 || !d.sigma.isZero(0.0))
+        c.insert(c.end(), {d.rotor.x(), d.rotor.y(), d.rotor.z(), d.lift, d.sigma.x(), d.sigma.y(), d.sigma.z()});
       os << "drag_law";
-      for (const Vec3* v : {&info->drag_law.linear, &info->drag_law.quadratic})
-        for (int i = 0; i < 3; ++i) {
-          std::snprintf(buf, sizeof(buf), "%.9g", (*v)(i));
-          os << ' ' << buf;
-        }
+      for (double v : c) {
+        std::snprintf(buf, sizeof(buf), "%.9g", v);
+        os << ' ' << buf;
+      }
       os << '\n';
     }
     if (v4) os << "sample_times " << info->sample_times << '\n';

@@ -62,7 +62,7 @@ SegmentSet buildSegments(const std::vector<FlightSamples>& flights, int window,
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 3; ++c) rot.push_back(static_cast<float>(dR(r, c)));
         // Thrust plus the drag law at the true body velocity: the network learns the rest.
-        const Vec3 a = dR * (f.thrust[k] + options.drag.force(f.q_WB[k].conjugate() * f.v_W[k]));
+        const Vec3 a = dR * (f.thrust[k] + options.drag.force(f.q_WB[k].conjugate() * f.v_W[k], f.thrust[k].norm()));
         alpha_thrust += dt * dt * wa[k - i] * a;
         beta_thrust += dt * wb[k - i] * a;
       }

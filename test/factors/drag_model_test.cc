@@ -15,7 +15,9 @@ using test::AnalyticFlight;
 DragLaw vehicleDrag() {
   DragLaw d;
   d.linear = Vec3(0.3, 0.25, 0.05);
+  d.rotor = Vec3(0.2, 0.15, 0.07);
   d.quadratic = Vec3(0.02, 0.03, 0.01);
+  d.lift = 0.016;
   return d;
 }
 
@@ -30,7 +32,10 @@ Eigen::Vector2d errorsOverInterval(double t_i, const DragLaw& model_in_factor) {
   for (const ImuSample& s : imu) {
     const double t = toSeconds(s.t);
     const Vec3 u = f.R(t).transpose() * f.v(t);
-    thrust.push_back({s.t, f.specificForce(t) - truth.force(u)});
+    // The law's rotor term depends on the thrust it corrects: a few fixed-point steps.
+    Vec3 T = f.specificForce(t);
+    for (int it = 0; it < 20; ++it) T = f.specificForce(t) - truth.force(u, T.norm());
+    thrust.push_back({s.t, T});
   }
   const auto pit = PreintegratedThrust::integrate(imu, thrust, fromSeconds(t_i), fromSeconds(t_j),
                                                   Vec6::Zero(), ThrustNoiseParams());
@@ -58,16 +63,61 @@ TEST(DragLaw, IntegratedAtTheStateVelocityReproducesTheFlight) {
 
 TEST(DragLaw, JacobianMatchesNumerical) {
   const DragLaw d = vehicleDrag();
-  for (const Vec3& u : {Vec3(3.0, -2.0, 1.0), Vec3(0.1, 0.0, -0.2), Vec3(-8.0, 5.0, 0.5)}) {
-    Mat3 numerical;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 h = 1e-6 * Vec3::Unit(k);
-      numerical.col(k) = (d.force(u + h) - d.force(u - h)) / 2e-6;
+  for (double thrust : {0.0, 9.81, 35.0})
+    for (const Vec3& u : {Vec3(3.0, -2.0, 1.0), Vec3(0.1, 0.0, -0.2), Vec3(-8.0, 5.0, 0.5)}) {
+      Mat3 numerical;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 h = 1e-6 * Vec3::Unit(k);
+        numerical.col(k) = (d.force(u + h, thrust) - d.force(u - h, thrust)) / 2e-6;
+      }
+      EXPECT_LT((numerical - d.jacobian(u, thrust)).cwiseAbs().maxCoeff(), 1e-8) << thrust;
     }
-    EXPECT_LT((numerical - d.jacobian(u)).cwiseAbs().maxCoeff(), 1e-8);
-  }
-  EXPECT_TRUE(d.force(Vec3::Zero()).isZero(0.0));
+  EXPECT_TRUE(d.force(Vec3::Zero(), 9.81).isZero(0.0));
   EXPECT_FALSE(DragLaw().enabled());
+  DragLaw lift_only;
+  lift_only.lift = 0.01;
+  EXPECT_TRUE(lift_only.enabled());
+}
+
+// The rotor term grows with the rotor-speed sum, sqrt(thrust / hover thrust): at four times
+// the hover thrust it is twice the hover value; the lift term pushes along +z with the
+// horizontal speed squared.
+TEST(DragLaw, RotorTermScalesWithSqrtThrustAndLiftWithHorizontalSpeed) {
+  DragLaw d;
+  d.rotor = Vec3(0.2, 0.1, 0.05);
+  const Vec3 u(2.0, -1.0, 0.5);
+  const Vec3 hover = d.force(u, DragLaw::kHoverThrust);
+  EXPECT_LT((hover + d.rotor.cwiseProduct(u)).norm(), 1e-12);
+  EXPECT_LT((d.force(u, 4.0 * DragLaw::kHoverThrust) - 2.0 * hover).norm(), 1e-12);
+  EXPECT_TRUE(d.force(u, -1.0).isZero(0.0));  // no (negative) thrust, no rotor drag
+  DragLaw l;
+  l.lift = 0.02;
+  EXPECT_LT((l.force(u, 9.81) - Vec3(0.0, 0.0, 0.02 * 5.0)).norm(), 1e-12);
+}
+
+// The law's residual sigma enters the dynamics factor's covariance as one body-frame error held
+// over the interval: on a short, nearly straight interval the beta block is ~ dt^2 sigma^2 and
+// the alpha block ~ (dt^2 / 2)^2 sigma^2; without sigma nothing is added.
+TEST(DragLaw, SigmaAddsAHeldErrorToTheCovariance) {
+  const AnalyticFlight f;
+  const auto imu = test::sampleImu(f, 1000.0, 1.0);
+  std::vector<ThrustSample> thrust;
+  for (const ImuSample& s : imu) thrust.push_back({s.t, f.specificForce(toSeconds(s.t))});
+  const double dt = 0.02;
+  const auto pit = PreintegratedThrust::integrate(imu, thrust, fromSeconds(0.5), fromSeconds(0.5 + dt),
+                                                  Vec6::Zero(), ThrustNoiseParams());
+  DragLaw d = vehicleDrag();
+  EXPECT_TRUE(dragCovariance(pit, d).isZero(0.0));
+  d.sigma = Vec3(0.6, 0.5, 1.0);
+  const Mat6 C = dragCovariance(pit, d);
+  const Vec3 var = d.sigma.cwiseAbs2();
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(C(3 + a, 3 + a), dt * dt * var(a), 0.05 * dt * dt * var(a)) << a;
+    EXPECT_NEAR(C(a, a), 0.25 * dt * dt * dt * dt * var(a), 0.05 * 0.25 * dt * dt * dt * dt * var(a)) << a;
+  }
+  EXPECT_LT((C - C.transpose()).norm(), 1e-15);
+  d.linear.setZero(), d.rotor.setZero(), d.quadratic.setZero(), d.lift = 0.0;  // no law: no sigma either
+  EXPECT_TRUE(dragCovariance(pit, d).isZero(0.0));
 }
 
 }  // namespace

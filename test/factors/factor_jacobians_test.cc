@@ -70,6 +70,8 @@ TYPED_TEST(DynamicsJacobians, MatchNumericalWithDrag) {
   params.force_prior_sigma = 2.0;
   params.drag.linear = Vec3(0.3, 0.25, 0.05);
   params.drag.quadratic = Vec3(0.02, 0.03, 0.01);
+  params.drag.rotor = Vec3(0.2, 0.15, 0.07);
+  params.drag.lift = 0.016;
   expectDynamicsJacobiansMatchNumerical<TypeParam>(17, params);
 }
 

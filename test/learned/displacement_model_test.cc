@@ -144,6 +144,30 @@ TEST(ForceWeightFile, Version3CarriesTheDragLaw) {
   expectFailure(replaced(text, "drag_law 0.3 0.25 0.05 0.01 0 0.02\n", ""), 5, "drag_law");
 }
 
+// The rotor and lift terms and the law's residual sigma extend the same line; a version-3 line
+// with only the six original numbers (above) still reads, with those terms zero.
+TEST(ForceWeightFile, Version3CarriesRotorLiftAndSigma) {
+  const Tcn tcn = testing::deterministicTcn();
+  TcnFileInfo info;
+  info.drag_law.quadratic = Vec3(0.0, 0.0108, 0.0469);
+  info.drag_law.rotor = Vec3(0.242, 0.187, 0.068);
+  info.drag_law.lift = 0.0164;
+  info.drag_law.sigma = Vec3(0.63, 0.49, 1.03);
+  const std::string text = formatTcnFile(tcn, info);
+  EXPECT_EQ(text.rfind("hdvio_tcn 3\n", 0), 0u);
+  const std::string line = "drag_law 0 0 0 0 0.0108 0.0469 0.242 0.187 0.068 0.0164 0.63 0.49 1.03";
+  EXPECT_NE(text.find("\n" + line + "\n"), std::string::npos) << text.substr(0, 300);
+  const DragLaw back = parseTcnFile(text, "v3.tcn").info.drag_law;
+  EXPECT_EQ(back.rotor, info.drag_law.rotor);
+  EXPECT_EQ(back.lift, info.drag_law.lift);
+  EXPECT_EQ(back.sigma, info.drag_law.sigma);
+  EXPECT_EQ(back.quadratic, info.drag_law.quadratic);
+  expectFailure(replaced(text, line, "drag_law 0 0 0 0 0.0108 0.0469 0.242 0.187 0.068 -0.0164 0.63 0.49 1.03"), 5,
+                "drag_law coefficients must be non-negative");
+  expectFailure(replaced(text, line, "drag_law 0 0 0 0 0.0108 0.0469 0.242 0.187 0.068 0.0164"), 5,
+                "drag_law <dx> <dy> <dz> <cx> <cy> <cz> [<rx> <ry> <rz> <lift> <sx> <sy> <sz>]");
+}
+
 TEST(DisplacementModel, LoadChecksTaskAndSigma) {
   const std::string path = tempPath("model.tcn");
   saveTcnFile(testing::deterministicResidualTcn(), displacementInfo("accel_gyro"), path, "", TcnEncoding::kFloat32);

@@ -169,7 +169,7 @@ TEST(TorchTraining, SegmentsRemoveTheDragLawAtTheTrueVelocity) {
   o.drag.linear = Vec3(0.3, 0.25, 0.05);
   o.drag.quadratic = Vec3(0.01, 0.02, 0.01);
   for (std::size_t k = 0; k < f.size(); ++k)
-    f.thrust[k] = f.force[k] - o.drag.force(f.q_WB[k].conjugate() * f.v_W[k]);
+    f.thrust[k] = f.force[k] - o.drag.force(f.q_WB[k].conjugate() * f.v_W[k], f.thrust[k].norm());
   const SegmentSet with = buildSegments({f}, 10, o);
   EXPECT_LT(with.beta_rest.abs().max().item<double>(), 2e-3);
   EXPECT_LT(with.alpha_rest.abs().max().item<double>(), 2e-4);

@@ -233,7 +233,8 @@ TEST_F(HdvioRun, DragLawIsEvaluatedAtTheEstimatedVelocity) {
   ASSERT_EQ(res.size(), vel.size());
   ASSERT_EQ(res.size(), q.size());
   for (std::size_t k = 0; k < res.size(); ++k) {
-    const Vec3 expected = law.force(q[k].normalized().conjugate() * vel[k].second);
+    // No rotor term here, so the thrust does not matter.
+    const Vec3 expected = law.force(q[k].normalized().conjugate() * vel[k].second, DragLaw::kHoverThrust);
     EXPECT_LT((res[k].second - expected).norm(), 1e-5) << k;  // files hold 9 decimals / digits
   }
   // The total non-thrust force (law + external) against the simulator's (external + drag at
@@ -301,11 +302,12 @@ TEST_F(HdvioRun, HybridWeightFileBringsItsDragLaw) {
   learned::TcnFileInfo info;
   info.drag_law.linear = Vec3(0.3, 0.3, 0.05);
   info.drag_law.quadratic = Vec3::Constant(0.01);
+  info.drag_law.rotor = Vec3(0.1, 0.05, 0.0);
   learned::saveTcnFile(learned::testing::deterministicTcn(), info, weights, "hdvio_run test");
   const std::string rf = "residual_force: {type: tcn, weights: " + weights + "}\n";
   const std::string same = writeConfig(
       "hybrid_same.yaml", "method: hdvio\nbackend:\n  drag_linear: [0.3, 0.3, 0.05]\n"
-                          "  drag_quadratic: [0.01, 0.01, 0.01]\n" + rf +
+                          "  drag_quadratic: [0.01, 0.01, 0.01]\n  drag_rotor: [0.1, 0.05, 0]\n" + rf +
                           "run: {init_from_groundtruth: true}\n");
   const std::string plain =
       writeConfig("hybrid.yaml", "method: hdvio\n" + rf + "run: {init_from_groundtruth: true}\n");
@@ -321,14 +323,17 @@ TEST_F(HdvioRun, HybridWeightFileBringsItsDragLaw) {
   ASSERT_GT(va.size(), 40u);
   ASSERT_EQ(va.size(), vb.size());
   for (std::size_t k = 0; k < va.size(); ++k) EXPECT_LT((va[k].second - vb[k].second).norm(), 1e-6) << k;
-  const std::string other = writeConfig(
-      "hybrid_other.yaml", "method: hdvio\nbackend:\n  drag_linear: [0.2, 0.3, 0.05]\n" + rf);
-  const Outcome c = run("--config " + other + " --dataset " + (dir_ / "seq").string() + " --out " +
-                        (dir_ / "o_other").string());
-  EXPECT_EQ(c.exit_code, 2);
-  EXPECT_NE(c.output.find("hybrid_other.yaml: backend.drag_linear / drag_quadratic differ from the drag law"),
-            std::string::npos) << c.output;
-  EXPECT_FALSE(fs::exists(dir_ / "o_other"));
+  // A different linear term, or the same law without its rotor term, contradicts the file.
+  for (const std::string& keys : {std::string("  drag_linear: [0.2, 0.3, 0.05]\n"),
+                                  std::string("  drag_linear: [0.3, 0.3, 0.05]\n  drag_quadratic: [0.01, 0.01, 0.01]\n")}) {
+    const std::string other = writeConfig("hybrid_other.yaml", "method: hdvio\nbackend:\n" + keys + rf);
+    const Outcome c = run("--config " + other + " --dataset " + (dir_ / "seq").string() + " --out " +
+                          (dir_ / "o_other").string());
+    EXPECT_EQ(c.exit_code, 2);
+    EXPECT_NE(c.output.find("hybrid_other.yaml: backend.drag_* keys differ from the drag law"), std::string::npos)
+        << c.output;
+    EXPECT_FALSE(fs::exists(dir_ / "o_other"));
+  }
 }
 
 TEST_F(HdvioRun, BadExperimentsAndMissingSensorsAreClearErrors) {

@@ -117,11 +117,13 @@ class VisualPipeline : public MethodPipeline {
   void adoptDragLaw(const DragLaw& law, const std::string& config_path) {
     if (!law.enabled()) return;
     DragLaw& drag = options_.dynamics.drag;
-    if (drag.enabled() && (!drag.linear.isApprox(law.linear, 1e-6) ||
-                           !drag.quadratic.isApprox(law.quadratic, 1e-6)))
+    const auto same = [](const Vec3& a, const Vec3& b) { return (a - b).norm() <= 1e-6 * std::max(1.0, b.norm()); };
+    if (drag.enabled() && (!same(drag.linear, law.linear) || !same(drag.quadratic, law.quadratic) ||
+                           !same(drag.rotor, law.rotor) || std::abs(drag.lift - law.lift) > 1e-9 ||
+                           (!drag.sigma.isZero(0.0) && !same(drag.sigma, law.sigma))))
       throw InputError(config_path, 0,
-                       "backend.drag_linear / drag_quadratic differ from the drag law the "
-                       "residual-force network was trained with (its weight file)");
+                       "backend.drag_* keys differ from the drag law the residual-force network was "
+                       "trained with (its weight file)");
     drag = law;
   }
 

@@ -1,8 +1,10 @@
 #include "hdvio/train/flight_loading.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include "hdvio/io/datasets.h"
 #include "hdvio/io/sequence_reader.h"
 
 namespace hdvio::train {
@@ -34,6 +36,28 @@ learned::FlightSamples loadFlight(const std::string& path, const FlightSource& s
   learned::FlightSamples f = learned::resampleFlight(loadSequence(path, source), options);
   f.name = path;
   return f;
+}
+
+bool isNeuroBemFile(const std::string& path) {
+  return path.size() > 4 && path.substr(path.size() - 4) == ".csv" && path.find("neurobem") != std::string::npos;
+}
+
+std::vector<Vec3> neuroBemForcesAt(const std::string& path, const FlightSource& source,
+                                   const std::vector<Timestamp>& t, double mass) {
+  const std::vector<io::NeuroBemForceSample> s = io::readNeuroBemForces(resolvePath(source.data_root, path));
+  std::vector<Vec3> out;
+  out.reserve(t.size());
+  for (Timestamp tk : t) {
+    auto hi = std::lower_bound(s.begin(), s.end(), tk, [](const auto& a, Timestamp v) { return a.t < v; });
+    if (hi == s.begin() || hi == s.end()) {
+      out.push_back((hi == s.end() ? s.back() : *hi).force / mass);
+      continue;
+    }
+    const auto lo = hi - 1;
+    const double a = static_cast<double>(tk - lo->t) / static_cast<double>(hi->t - lo->t);
+    out.push_back(((1.0 - a) * lo->force + a * hi->force) / mass);
+  }
+  return out;
 }
 
 learned::FlightSamples fractionOf(const learned::FlightSamples& flight, double begin, double end) {

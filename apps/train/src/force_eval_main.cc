@@ -11,7 +11,6 @@
 
 #include "hdvio/core/error.h"
 #include "hdvio/core/tool_flags.h"
-#include "hdvio/io/datasets.h"
 #include "hdvio/learned/force_metrics.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/train/flight_loading.h"
@@ -27,6 +26,8 @@ DEFINE_double(end_fraction, 1.0, "... up to this fraction");
 DEFINE_double(rate_hz, 100.0, "resampling rate (must match the network's)");
 DEFINE_string(drag_linear, "", "drag law alone (no --weights): linear coefficients x,y,z (body, 1/s)");
 DEFINE_string(drag_quadratic, "", "... and quadratic coefficients x,y,z (1/m); see hdvio_train --fit_only");
+DEFINE_string(drag_rotor, "", "... and rotor coefficients x,y,z (1/s at hover thrust); see hdvio_drag_lofo");
+DEFINE_double(drag_lift, 0.0, "... and the translational-lift coefficient (1/m)");
 DEFINE_double(sigma_scale, 1.0, "variance head: multiply its sigma by this (the training flights' "
                                 "calibration factor, printed as 'sigma quantile')");
 DEFINE_string(out_csv, "", "optional per-sample CSV: t, measured, thrust, tcn (mass-normalized)");
@@ -39,20 +40,6 @@ struct Series {
   std::vector<Vec3> measured, thrust, law, tcn, neurobem;
   std::vector<Vec3> sigma;  // the variance head's per-axis standard deviation (m/s^2)
 };
-
-bool isNeuroBem(const std::string& path) {
-  return path.size() > 4 && path.substr(path.size() - 4) == ".csv" &&
-         path.find("neurobem") != std::string::npos;
-}
-
-Vec3 neuroBemAt(const std::vector<hdvio::io::NeuroBemForceSample>& s, hdvio::Timestamp t) {
-  auto hi = std::lower_bound(s.begin(), s.end(), t, [](const auto& a, hdvio::Timestamp v) { return a.t < v; });
-  if (hi == s.begin()) return hi->force;
-  if (hi == s.end()) return s.back().force;
-  const auto lo = hi - 1;
-  const double a = static_cast<double>(t - lo->t) / static_cast<double>(hi->t - lo->t);
-  return (1.0 - a) * lo->force + a * hi->force;
-}
 
 // "a,b,c" with non-negative numbers (flag_name for the message).
 Vec3 coefficientsFlag(const std::string& value, const char* flag_name) {
@@ -112,10 +99,14 @@ int main(int argc, char** argv) {
       }
     }
     if (!(FLAGS_sigma_scale > 0.0)) throw hdvio::InputError("", 0, "--sigma_scale must be positive");
-    if (!FLAGS_drag_linear.empty() || !FLAGS_drag_quadratic.empty()) {
+    if (!FLAGS_drag_linear.empty() || !FLAGS_drag_quadratic.empty() || !FLAGS_drag_rotor.empty() ||
+        FLAGS_drag_lift != 0.0) {
       if (tcn) throw hdvio::InputError(FLAGS_weights, 0, "give the drag law by --weights or by --drag_* flags, not both");
       drag.linear = coefficientsFlag(FLAGS_drag_linear, "drag_linear");
       drag.quadratic = coefficientsFlag(FLAGS_drag_quadratic, "drag_quadratic");
+      drag.rotor = coefficientsFlag(FLAGS_drag_rotor, "drag_rotor");
+      if (!(FLAGS_drag_lift >= 0.0)) throw hdvio::InputError("", 0, "--drag_lift: negative coefficient");
+      drag.lift = FLAGS_drag_lift;
     }
     hdvio::train::FlightSource source;
     source.data_root = FLAGS_data_root;
@@ -141,10 +132,9 @@ int main(int argc, char** argv) {
         }
         residual = tcn->forwardSequence(x);
       }
-      std::vector<hdvio::io::NeuroBemForceSample> nb;
-      const bool neurobem = isNeuroBem(path);
+      const bool neurobem = hdvio::train::isNeuroBemFile(path);
       all_neurobem = all_neurobem && neurobem;
-      if (neurobem) nb = hdvio::io::readNeuroBemForces(hdvio::train::resolvePath(FLAGS_data_root, path));
+      const std::vector<Vec3> nb = neurobem ? hdvio::train::neuroBemForcesAt(path, source, f.t, mass) : std::vector<Vec3>();
       const int warmup = tcn ? tcn->architecture().window - 1 : 0;
       const auto n = static_cast<double>(f.size());
       const std::size_t k0 = std::max<std::size_t>(warmup, static_cast<std::size_t>(FLAGS_begin_fraction * n));
@@ -156,12 +146,12 @@ int main(int argc, char** argv) {
         s.thrust.push_back(f.thrust[k]);
         Vec3 r = tcn ? Vec3(residual.col(k).head<3>().cast<double>()) : Vec3::Zero();
         // The law at the recorded (ground-truth) velocity: it then uses part of the state.
-        const Vec3 law = drag.force(f.q_WB[k].conjugate() * f.v_W[k]);
+        const Vec3 law = drag.force(f.q_WB[k].conjugate() * f.v_W[k], f.thrust[k].norm());
         s.law.push_back(f.thrust[k] + law);
         s.tcn.push_back(f.thrust[k] + law + r);
         if (variance)
           s.sigma.push_back(FLAGS_sigma_scale * (0.5 * residual.col(k).tail<3>().cast<double>()).array().exp());
-        if (neurobem) s.neurobem.push_back(neuroBemAt(nb, f.t[k]) / mass);
+        if (neurobem) s.neurobem.push_back(nb[k]);
         if (csv.is_open()) {
           csv << hdvio::toSeconds(f.t[k]);
           for (const Vec3* v : {&f.force[k], &f.thrust[k], static_cast<const Vec3*>(&s.tcn.back())})

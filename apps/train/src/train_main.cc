@@ -16,6 +16,7 @@
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/thrust_identification.h"
 #include "hdvio/learned/torch/trainer.h"
+#include "hdvio/train/drag_law_fit.h"
 #include "hdvio/train/flight_loading.h"
 #include "hdvio/train/training_config.h"
 
@@ -40,7 +41,8 @@ std::string vecString(const Vec3& v) {
   return buf;
 }
 
-// model.drag_law: none | fit | given (then drag_linear, drag_quadratic). The law
+// model.drag_law: none | fit (optional drag_terms) | given (then drag_linear, drag_quadratic,
+// optional drag_rotor, drag_lift, drag_sigma). The law
 // (core/drag_law.h) is the physics part of the hybrid model: the network learns what it leaves,
 // and the weight file (version 3) carries the law to hdvio_run.
 Vec3 readDragCoefficients(const ConfigReader& m, const std::string& key) {
@@ -51,19 +53,26 @@ Vec3 readDragCoefficients(const ConfigReader& m, const std::string& key) {
   return Vec3(c[0], c[1], c[2]);
 }
 
-learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag, bool* fit_drag) {
+learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag, bool* fit_drag, DragTerms* terms) {
   learned::TcnArchitecture a;
   train::readTcnShape(m, &a);
   m.readOptional("variance_head", &a.variance_head);
   std::string law = "none";
   m.readChoice("drag_law", &law, {"none", "fit", "given"});
   *fit_drag = law == "fit";
+  if (law == "fit") {  // drag_terms: which of linear, rotor, quadratic, lift (default linear, quadratic)
+    std::vector<std::string> t{"linear", "quadratic"};
+    m.readOptional("drag_terms", &t);
+    *terms = train::parseDragTerms(t, m.file(), "key 'model.drag_terms'");
+  }
   if (law == "given") {
     drag->linear = readDragCoefficients(m, "drag_linear");
     drag->quadratic = readDragCoefficients(m, "drag_quadratic");
+    drag->rotor = readDragCoefficients(m, "drag_rotor");
+    m.readInRange("drag_lift", &drag->lift, 0.0, 10.0);
+    drag->sigma = readDragCoefficients(m, "drag_sigma");
     if (!drag->enabled())
-      throw InputError(m.file(), 0,
-                       "key 'model.drag_law': given needs non-zero drag_linear or drag_quadratic");
+      throw InputError(m.file(), 0, "key 'model.drag_law': given needs a non-zero coefficient");
   }
   m.finish();
   train::validateTcnShape(m, a);
@@ -82,22 +91,6 @@ learned::TrainOptions readTraining(const ConfigReader& t) {
   return o;
 }
 
-// Least squares on every sample of the training flights: the mass-normalized force beyond the
-// thrust (accelerometer minus its known bias, minus thrust) against the body velocity.
-DragLaw fitDragLawOn(const std::vector<learned::FlightSamples>& flights) {
-  std::vector<Vec3> u, f;
-  for (const auto& fl : flights) {
-    if (fl.force.size() != fl.size())
-      throw InputError(fl.name, 0, "model.drag_law: fit needs the flight's IMU");
-    for (std::size_t k = 0; k < fl.size(); ++k) {
-      u.push_back(fl.q_WB[k].conjugate() * fl.v_W[k]);
-      f.push_back(fl.force[k] - fl.thrust[k]);
-    }
-  }
-  if (u.size() < 100) throw InputError("", 0, "model.drag_law: fit needs at least 100 samples");
-  return fitDragLaw(u, f);
-}
-
 // The config as this run used it: the fold's training flights and the thrust coefficient it
 // refitted, so the run can be repeated with plain hdvio_train --config.
 void writeEffectiveConfig(const std::string& path, const std::string& comment,
@@ -112,6 +105,10 @@ void writeEffectiveConfig(const std::string& path, const std::string& comment,
     n["model"]["drag_linear"] = std::vector<double>{drag.linear.x(), drag.linear.y(), drag.linear.z()};
     n["model"]["drag_quadratic"] =
         std::vector<double>{drag.quadratic.x(), drag.quadratic.y(), drag.quadratic.z()};
+    n["model"].remove("drag_terms");
+    n["model"]["drag_rotor"] = std::vector<double>{drag.rotor.x(), drag.rotor.y(), drag.rotor.z()};
+    n["model"]["drag_lift"] = drag.lift;
+    n["model"]["drag_sigma"] = std::vector<double>{drag.sigma.x(), drag.sigma.y(), drag.sigma.z()};
   }
   YAML::Emitter e;
   e.SetDoublePrecision(9);
@@ -155,7 +152,8 @@ int main(int argc, char** argv) {
     data.finish();
     DragLaw drag;
     bool fit_drag = false;
-    const learned::TcnArchitecture arch = readModel(config.section("model"), &drag, &fit_drag);
+    DragTerms drag_terms;
+    const learned::TcnArchitecture arch = readModel(config.section("model"), &drag, &fit_drag, &drag_terms);
     learned::TrainOptions options = readTraining(config.section("training"));
     config.finish();
     if (train_paths.empty()) throw InputError(FLAGS_config, 0, "data.train lists no flights");
@@ -203,10 +201,11 @@ int main(int argc, char** argv) {
     }
     for (const auto& p : validation_paths) validation_flights.push_back(train::loadFlight(p, source));
 
-    if (fit_drag) drag = fitDragLawOn(train_flights);
+    if (fit_drag) drag = train::fitDragLawOn(train_flights, drag_terms);
     if (drag.enabled())
       std::cout << "drag law: linear " << vecString(drag.linear) << " quadratic "
-                << vecString(drag.quadratic) << (fit_drag ? " (fitted on the training part)" : "")
+                << vecString(drag.quadratic) << " rotor " << vecString(drag.rotor) << " lift " << drag.lift
+                << (fit_drag ? " (fitted on the training part)" : "")
                 << "\n";
     options.drag = drag;
     if (!FLAGS_effective_config.empty())

@@ -159,8 +159,13 @@ bool VisualEstimator::hasModelForce() const {
 Vec3 VisualEstimator::modelForceAt(const NavState& s) const {
   Vec3 f = provider_ ? residualForceAtState(*provider_, imu_, thrust_, s) : Vec3::Zero();
   const DragLaw& drag = options_.backend.dynamics.drag;
-  if (usesDynamics(options_.backend.method) && drag.enabled())
-    f += drag.force(s.T_WB.R().transpose() * s.v_W);
+  if (usesDynamics(options_.backend.method) && drag.enabled()) {
+    // The law's rotor term needs the thrust: the latest sample at or before the state.
+    auto after = std::upper_bound(thrust_.begin(), thrust_.end(), s.t,
+                                  [](Timestamp t, const ThrustSample& x) { return t < x.t; });
+    const double thrust = after == thrust_.begin() ? DragLaw::kHoverThrust : std::prev(after)->thrust.norm();
+    f += drag.force(s.T_WB.R().transpose() * s.v_W, thrust);
+  }
   return f;
 }
 

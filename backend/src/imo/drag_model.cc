@@ -82,15 +82,17 @@ DragLawFit fitDragLawOnSamples(const std::vector<DragSample>& samples, double th
   if (samples.size() < 100)
     throw InputError("", 0, "drag fit: fewer than 100 samples with thrust and ground truth");
   std::vector<Vec3> u, f;
+  std::vector<double> thrust;
   for (const DragSample& s : samples) {
     u.push_back(s.velocity_body);
+    thrust.push_back(thrust_scale * s.thrust.norm());
     f.push_back(s.specific_force - thrust_scale * s.thrust);
   }
   DragLawFit fit;
-  fit.law = hdvio::fitDragLaw(u, f);
+  fit.law = hdvio::fitDragLaw(u, thrust, f);
   Vec3 sum_sq = Vec3::Zero();
   for (std::size_t k = 0; k < samples.size(); ++k)
-    sum_sq += (samples[k].R * (f[k] - fit.law.force(u[k]))).cwiseAbs2();
+    sum_sq += (samples[k].R * (f[k] - fit.law.force(u[k], thrust[k]))).cwiseAbs2();
   fit.rms = (sum_sq / static_cast<double>(samples.size())).cwiseSqrt();
   return fit;
 }
@@ -131,7 +133,7 @@ DisplacementSource makeDragModelSource(std::shared_ptr<const std::vector<ThrustS
                                        const DragModel& model, double step_s, const Vec3& sigma,
                                        const Vec3& gravity, bool attitude_jacobian) {
   if (!(step_s > 0.0)) throw std::invalid_argument("makeDragModelSource: step must be > 0");
-  if (!model.drag.quadratic.isZero(0.0))
+  if (!model.drag.quadratic.isZero(0.0) || !model.drag.rotor.isZero(0.0))
     throw std::invalid_argument("makeDragModelSource: the Model-EKF takes linear drag only");
   const Mat3 cov = sigma.cwiseAbs2().asDiagonal();
   return [samples, model, step_s, cov, gravity, attitude_jacobian](const DisplacementRequest& r)

@@ -25,4 +25,10 @@ struct DragIntegral {
 DragIntegral integrateDrag(const PreintegratedThrust& pit, const DragLaw& drag, const Vec3& u_i,
                            const Vec3& u_j);
 
+// Covariance of [alpha_drag, beta_drag] (6x6, frame i) from the law's residual sigma, taken as
+// one error e ~ N(0, diag(sigma^2)) in the body frame held over the interval (the law misses
+// slowly varying aerodynamics, not white noise): [B_alpha; B_beta] diag(sigma^2) [..]^T with
+// B = sum_k w_k dR_k. Zero without a law or with sigma = 0.
+Mat6 dragCovariance(const PreintegratedThrust& pit, const DragLaw& drag);
+
 }  // namespace hdvio

@@ -46,9 +46,10 @@ class PointMassDynamics {
   };
 
   PointMassDynamics(std::shared_ptr<const PreintegratedThrust> pit, const DragLaw& drag);
-  // blockdiag(preintegrated [alpha, beta] 6x6, sigma_f^2 I3); throws std::invalid_argument
-  // unless sigma_f is positive and finite.
-  static std::shared_ptr<const NoiseModel> noiseFor(const PreintegratedThrust& pit, double sigma_f);
+  // blockdiag(preintegrated [alpha, beta] 6x6 + the drag law's dragCovariance, sigma_f^2 I3);
+  // throws std::invalid_argument unless sigma_f is positive and finite.
+  static std::shared_ptr<const NoiseModel> noiseFor(const PreintegratedThrust& pit, const DragLaw& drag,
+                                                    double sigma_f);
   const PreintegratedThrust& preintegrated() const { return *pit_; }
   // Rows 0-5 of residual (9 entries); returns R_i for the caller's force rows.
   Mat3 evaluate(const Inputs& x, double* residual, const Jacobians* jacobians) const;

@@ -68,10 +68,11 @@ class PreintegratedThrust {
   // One per integration step, for drag evaluated at the state's velocity (drag_model.h): the
   // rotation to frame i at the middle of the step, the step's middle as a fraction of dt(), and
   // the weights with which a force held over the step enters beta (dt_k) and alpha
-  // (dt_k * (dt() - t_mid,k)).
+  // (dt_k * (dt() - t_mid,k)), and the step's collective thrust |T| (m/s^2; the law's rotor term).
   struct DragNode {
     Mat3 dR = Mat3::Identity();
     double s = 0.0, w_beta = 0.0, w_alpha = 0.0;
+    double thrust = 0.0;
   };
   const std::vector<DragNode>& dragNodes() const { return drag_nodes_; }
 

@@ -27,7 +27,8 @@
 //
 // Version 3 (a force network trained on what a drag law leaves, core/drag_law.h) is version 2
 // with "drag_law <dx> <dy> <dz> <cx> <cy> <cz>" (or "drag_law none") after output_sigma;
-// written only when the info holds a law.
+// written only when the info holds a law. A law with a rotor or lift term or a residual sigma
+// appends "<rx> <ry> <rz> <lift> <sx> <sy> <sz>" to that line (older readers refuse it).
 //
 // Version 4 (the IMO reference release's network, scripts/convert_imo_release_checkpoint.py)
 // is version 3 (drag_law line always present, "none" allowed) with "sample_times end|begin"

@@ -22,6 +22,13 @@ std::vector<std::string> splitList(const std::string& list);
 Sequence loadSequence(const std::string& path, const FlightSource& source);
 learned::FlightSamples loadFlight(const std::string& path, const FlightSource& source);
 
+// NeuroBEM CSV files (their own model's force prediction is a column).
+bool isNeuroBemFile(const std::string& path);
+// The NeuroBEM model's force (dataset columns, N) at the times t, linearly interpolated and
+// divided by mass (mass-normalized like FlightSamples).
+std::vector<Vec3> neuroBemForcesAt(const std::string& path, const FlightSource& source,
+                                   const std::vector<Timestamp>& t, double mass);
+
 // Samples [floor(begin * n), floor(end * n)) of the flight.
 learned::FlightSamples fractionOf(const learned::FlightSamples& flight, double begin, double end);
 

@@ -19,7 +19,7 @@ namespace hdvio::imo {
 // Model-EKF's displacement is linear in the velocity (makeDragModelSource rejects a quadratic).
 struct DragModel {
   double thrust_scale = 1.0;  // k
-  DragLaw drag;               // drag.linear = d (1/s), body axes; drag.quadratic = 0
+  DragLaw drag;               // drag.linear = d (1/s), body axes; drag.rotor = drag.quadratic = 0
 };
 
 // One training sample: specific force and thrust (body), ground-truth body velocity and attitude.

@@ -1,0 +1,49 @@
+#include "hdvio/train/drag_law_fit.h"
+
+#include "hdvio/core/error.h"
+#include "hdvio/train/flight_loading.h"
+
+namespace hdvio::train {
+
+DragLaw fitDragLawOn(const std::vector<learned::FlightSamples>& flights, const DragTerms& terms) {
+  std::vector<Vec3> u, f;
+  std::vector<double> thrust;
+  for (const auto& fl : flights) {
+    if (fl.force.size() != fl.size()) throw InputError(fl.name, 0, "drag law fit needs the flight's IMU");
+    for (std::size_t k = 0; k < fl.size(); ++k) {
+      u.push_back(fl.q_WB[k].conjugate() * fl.v_W[k]);
+      thrust.push_back(fl.thrust[k].norm());
+      f.push_back(fl.force[k] - fl.thrust[k]);
+    }
+  }
+  if (u.size() < 100) throw InputError("", 0, "drag law fit needs at least 100 samples");
+  DragLaw law = fitDragLaw(u, thrust, f, terms);
+  Vec3 sum_sq = Vec3::Zero();
+  for (std::size_t k = 0; k < u.size(); ++k) sum_sq += (f[k] - law.force(u[k], thrust[k])).cwiseAbs2();
+  law.sigma = (sum_sq / static_cast<double>(u.size())).cwiseSqrt();
+  return law;
+}
+
+std::vector<Vec3> thrustPlusLaw(const learned::FlightSamples& flight, const DragLaw& law) {
+  std::vector<Vec3> out;
+  out.reserve(flight.size());
+  for (std::size_t k = 0; k < flight.size(); ++k)
+    out.push_back(flight.thrust[k] +
+                  law.force(flight.q_WB[k].conjugate() * flight.v_W[k], flight.thrust[k].norm()));
+  return out;
+}
+
+DragTerms parseDragTerms(const std::vector<std::string>& names, const std::string& file, const std::string& what) {
+  DragTerms t{false, false, false, false};
+  for (const std::string& term : names) {
+    if (term == "linear") t.linear = true;
+    else if (term == "rotor") t.rotor = true;
+    else if (term == "quadratic") t.quadratic = true;
+    else if (term == "lift") t.lift = true;
+    else throw InputError(file, 0, what + ": unknown drag term '" + term + "' (linear, rotor, quadratic, lift)");
+  }
+  if (!t.linear && !t.rotor && !t.quadratic && !t.lift) throw InputError(file, 0, what + ": no drag term");
+  return t;
+}
+
+}  // namespace hdvio::train
