@@ -176,11 +176,13 @@ void VioBackend::addInertialFactors(const StateSlot& from, std::uint64_t k, Time
       imu_, thrust_, from.t, t, s.bias, options_.thrust, force));
   values->insertVector(F(k), s.f_ext_W);
   DynamicsFactorParams dynamics = options_.dynamics;
+  dynamics.sigma_velocity_i = Ri.transpose() * s.v_W;  // the law's sigma at the prediction
+  dynamics.sigma_velocity_j = Ri.transpose() * v_j;
   if (force_walk_) {
     // The interval's accelerometer-minus-model force (frame i mean, drag at the predicted
     // velocities), in the world frame.
-    const DragIntegral drag = integrateDrag(*pit, dynamics.drag, Ri.transpose() * s.v_W,
-                                            Ri.transpose() * v_j);
+    const DragIntegral drag = integrateDrag(*pit, dynamics.drag, dynamics.sigma_velocity_i,
+                                            dynamics.sigma_velocity_j);
     const Vec3 f_W = Ri * (pit->correctedGamma(s.bias) - drag.beta) / dt;
     dynamics.force_random_walk = force_walk_->update(f_W, dt);
   }

@@ -108,6 +108,9 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   readVec3(c, "drag_rotor", &o.dynamics.drag.rotor, false);
   c.readInRange("drag_lift", &o.dynamics.drag.lift, 0.0, 10.0);
   readVec3(c, "drag_sigma", &o.dynamics.drag.sigma, false);
+  readVec3(c, "drag_sigma_speed", &o.dynamics.drag.sigma_speed, false);
+  readVec3(c, "drag_sigma_rate", &o.dynamics.drag.sigma_rate, false);
+  readVec3(c, "drag_sigma_thrust", &o.dynamics.drag.sigma_thrust, false);
   if (o.dynamics.drag.enabled() && method == VioMethod::kVid)
     throw InputError(c.file(), 0,
                      "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +

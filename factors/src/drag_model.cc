@@ -22,14 +22,23 @@ DragIntegral integrateDrag(const PreintegratedThrust& pit, const DragLaw& drag, 
   return out;
 }
 
-Mat6 dragCovariance(const PreintegratedThrust& pit, const DragLaw& drag) {
-  if (!drag.enabled() || drag.sigma.isZero(0.0)) return Mat6::Zero();
+Mat6 dragCovariance(const PreintegratedThrust& pit, const DragLaw& drag, const Vec3& u_i, const Vec3& u_j) {
+  if (!drag.enabled() || !drag.hasSigma()) return Mat6::Zero();
   Eigen::Matrix<double, 6, 3> B = Eigen::Matrix<double, 6, 3>::Zero();
-  for (const PreintegratedThrust::DragNode& n : pit.dragNodes()) {
-    B.topRows<3>() += n.w_alpha * n.dR;
-    B.bottomRows<3>() += n.w_beta * n.dR;
+  if (!drag.hasVaryingSigma()) {  // one sigma for the interval: diag(sigma) factors out
+    for (const PreintegratedThrust::DragNode& n : pit.dragNodes()) {
+      B.topRows<3>() += n.w_alpha * n.dR;
+      B.bottomRows<3>() += n.w_beta * n.dR;
+    }
+    return B * drag.sigma.cwiseAbs2().asDiagonal() * B.transpose();
   }
-  return B * drag.sigma.cwiseAbs2().asDiagonal() * B.transpose();
+  for (const PreintegratedThrust::DragNode& n : pit.dragNodes()) {
+    const Vec3 u = n.dR.transpose() * ((1.0 - n.s) * u_i + n.s * u_j);
+    const Mat3 S = n.dR * drag.sigmaAt(u, n.omega, n.thrust).asDiagonal();
+    B.topRows<3>() += n.w_alpha * S;
+    B.bottomRows<3>() += n.w_beta * S;
+  }
+  return B * B.transpose();
 }
 
 }  // namespace hdvio

@@ -28,7 +28,8 @@ NoiseModelPtr HdvioDynamicsFactor::noiseFor(const PreintegratedThrust& pit,
   // Var = q dt^5/45, q dt^3/12 and Cov = q dt^4/24 (q = rw^2, isotropic, so the same in frame i).
   // The drag law's own error (drag_sigma) adds its held-over-the-interval covariance.
   const double q = rw * rw;
-  Eigen::Matrix<double, 6, 6> cov = pit.alphaBetaCovariance() + dragCovariance(pit, params.drag);
+  Eigen::Matrix<double, 6, 6> cov =
+      pit.alphaBetaCovariance() + dragCovariance(pit, params.drag, params.sigma_velocity_i, params.sigma_velocity_j);
   cov.topLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 5) / 45.0;
   cov.topRightCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;
   cov.bottomLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;

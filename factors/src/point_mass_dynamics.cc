@@ -14,11 +14,14 @@ PointMassDynamics::PointMassDynamics(std::shared_ptr<const PreintegratedThrust> 
     : pit_(std::move(pit)), drag_(drag) {}
 
 std::shared_ptr<const NoiseModel> PointMassDynamics::noiseFor(const PreintegratedThrust& pit,
-                                                             const DragLaw& drag, double sigma_f) {
+                                                             const DynamicsFactorParams& params,
+                                                             double sigma_f) {
   if (!(sigma_f > 0.0) || !std::isfinite(sigma_f))
     throw std::invalid_argument("dynamics factor: force sigma must be positive and finite");
-  return NoiseModel::blockDiagonal<9, 6>(pit.alphaBetaCovariance() + dragCovariance(pit, drag),
-                                         Vec3::Constant(sigma_f * sigma_f));
+  return NoiseModel::blockDiagonal<9, 6>(
+      pit.alphaBetaCovariance() +
+          dragCovariance(pit, params.drag, params.sigma_velocity_i, params.sigma_velocity_j),
+      Vec3::Constant(sigma_f * sigma_f));
 }
 
 Mat3 PointMassDynamics::evaluate(const Inputs& x, double* residual, const Jacobians* jac) const {

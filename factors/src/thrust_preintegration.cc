@@ -110,7 +110,7 @@ void ThrustPreintegrator::add(const DynamicsStep& step) {
   s.dgamma_dba_ -= dt * R_mid;
   s.dR_dbg_ = E.transpose() * s.dR_dbg_ - Jr * dt;
 
-  s.drag_nodes_.push_back({R_mid, s.dt_ + 0.5 * dt, dt, 0.0, step.thrust.norm()});
+  s.drag_nodes_.push_back({R_mid, s.dt_ + 0.5 * dt, dt, 0.0, step.thrust.norm(), w});
   const Vec3 dR_f = s.dR_ * f_m;
   s.alpha_ += s.beta_ * dt + 0.5 * dt2 * dR_f;
   s.beta_ += dR_f * dt;

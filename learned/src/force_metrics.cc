@@ -28,16 +28,19 @@ SigmaCoverage sigmaCoverage(const std::vector<Vec3>& predicted, const std::vecto
     throw std::invalid_argument("sigma coverage needs three equally long, non-empty series");
   }
   std::size_t in1 = 0, in2 = 0;
+  double nll = 0.0;
   for (std::size_t k = 0; k < predicted.size(); ++k) {
     for (int i = 0; i < 3; ++i) {
       if (!(sigma[k](i) > 0.0)) throw std::invalid_argument("sigma coverage: non-positive sigma");
       const double e = std::abs(predicted[k](i) - measured[k](i));
       in1 += e <= sigma[k](i);
       in2 += e <= 2.0 * sigma[k](i);
+      const double z = e / sigma[k](i);
+      nll += std::log(sigma[k](i)) + 0.5 * z * z;
     }
   }
   const double n = 3.0 * static_cast<double>(predicted.size());
-  return {in1 / n, in2 / n, 3 * predicted.size()};
+  return {in1 / n, in2 / n, 3 * predicted.size(), nll / n + 0.5 * std::log(2.0 * M_PI)};
 }
 
 double sigmaQuantile(const std::vector<Vec3>& predicted, const std::vector<Vec3>& sigma,

@@ -259,21 +259,27 @@ TcnFileInfo readInfo(LineCursor& c, bool with_drag_law, bool with_sample_times) 
     }
   }
   if (!with_drag_law) return info;
-  const std::string form = "drag_law <dx> <dy> <dz> <cx> <cy> <cz> [<rx> <ry> <rz> <lift> <sx> <sy> <sz>]";
+  const std::string form =
+      "drag_law <dx> <dy> <dz> <cx> <cy> <cz> [<rx> <ry> <rz> <lift> <sx> <sy> <sz> "
+      "[<speed x y z> <rate x y z> <thrust x y z>]]";
   c.expectNext(form);
   if (c.tokens()[0] != "drag_law") c.fail("expected \"" + form + "\" or \"drag_law none\"");
   if (!(c.tokens().size() == 2 && c.tokens()[1] == "none")) {
-    const bool extended = c.tokens().size() == 14;  // rotor, lift and sigma are optional
-    if (!extended) c.expectTokens(7, form);
+    // Rotor, lift and sigma are optional, and so is the sigma's growth with speed, rate, thrust.
+    const std::size_t n = c.tokens().size();
+    if (n != 7 && n != 14 && n != 23) c.expectTokens(7, form);
     DragLaw& d = info.drag_law;
     for (int i = 0; i < 3; ++i) {
       d.linear(i) = c.real(1 + i);
       d.quadratic(i) = c.real(4 + i);
-      if (extended) d.rotor(i) = c.real(7 + i), d.sigma(i) = c.real(11 + i);
+      if (n >= 14) d.rotor(i) = c.real(7 + i), d.sigma(i) = c.real(11 + i);
+      if (n == 23)
+        d.sigma_speed(i) = c.real(14 + i), d.sigma_rate(i) = c.real(17 + i), d.sigma_thrust(i) = c.real(20 + i);
     }
-    if (extended) d.lift = c.real(10);
-    if ((d.linear.array() < 0.0).any() || (d.quadratic.array() < 0.0).any() || (d.rotor.array() < 0.0).any() ||
-        d.lift < 0.0 || (d.sigma.array() < 0.0).any())
+    if (n >= 14) d.lift = c.real(10);
+    const auto negative = [](const Vec3& v) { return (v.array() < 0.0).any(); };
+    if (negative(d.linear) || negative(d.quadratic) || negative(d.rotor) || d.lift < 0.0 || negative(d.sigma) ||
+        negative(d.sigma_speed) || negative(d.sigma_rate) || negative(d.sigma_thrust))
       c.fail("drag_law coefficients must be non-negative");
   }
   if (with_sample_times) info.sample_times = word(c, "sample_times", {"end", "begin"});
@@ -453,8 +459,10 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
       const DragLaw& d = info->drag_law;
       std::vector<double> c{d.linear.x(), d.linear.y(), d.linear.z(), d.quadratic.x(), d.quadratic.y(),
                             d.quadratic.z()};
-      if (!d.rotor.isZero(0.0) || d.lift != 0.0 || !d.sigma.isZero(0.0))
+      if (!d.rotor.isZero(0.0) || d.lift != 0.0 || d.hasSigma())
         c.insert(c.end(), {d.rotor.x(), d.rotor.y(), d.rotor.z(), d.lift, d.sigma.x(), d.sigma.y(), d.sigma.z()});
+      if (d.hasVaryingSigma())
+        for (const Vec3* v : {&d.sigma_speed, &d.sigma_rate, &d.sigma_thrust}) c.insert(c.end(), {v->x(), v->y(), v->z()});
       os << "drag_law";
       for (double v : c) {
         std::snprintf(buf, sizeof(buf), "%.9g", v);

@@ -107,9 +107,9 @@ TEST(DragLaw, SigmaAddsAHeldErrorToTheCovariance) {
   const auto pit = PreintegratedThrust::integrate(imu, thrust, fromSeconds(0.5), fromSeconds(0.5 + dt),
                                                   Vec6::Zero(), ThrustNoiseParams());
   DragLaw d = vehicleDrag();
-  EXPECT_TRUE(dragCovariance(pit, d).isZero(0.0));
+  EXPECT_TRUE(dragCovariance(pit, d, Vec3::Zero(), Vec3::Zero()).isZero(0.0));
   d.sigma = Vec3(0.6, 0.5, 1.0);
-  const Mat6 C = dragCovariance(pit, d);
+  const Mat6 C = dragCovariance(pit, d, Vec3::Zero(), Vec3::Zero());
   const Vec3 var = d.sigma.cwiseAbs2();
   for (int a = 0; a < 3; ++a) {
     EXPECT_NEAR(C(3 + a, 3 + a), dt * dt * var(a), 0.05 * dt * dt * var(a)) << a;
@@ -117,7 +117,38 @@ TEST(DragLaw, SigmaAddsAHeldErrorToTheCovariance) {
   }
   EXPECT_LT((C - C.transpose()).norm(), 1e-15);
   d.linear.setZero(), d.rotor.setZero(), d.quadratic.setZero(), d.lift = 0.0;  // no law: no sigma either
-  EXPECT_TRUE(dragCovariance(pit, d).isZero(0.0));
+  EXPECT_TRUE(dragCovariance(pit, d, Vec3::Zero(), Vec3::Zero()).isZero(0.0));
+}
+
+// A sigma growing with speed, body rate and thrust is evaluated per node at the given velocity
+// (frame i), the node's gyro and thrust: on a short interval the beta block is ~ dt^2
+// sigma(u, w, T)^2. With only a negligible varying part the per-node sum reduces to the
+// closed form of the constant sigma.
+TEST(DragLaw, SigmaGrowsWithTheSpeedItIsEvaluatedAt) {
+  const AnalyticFlight f;
+  const auto imu = test::sampleImu(f, 1000.0, 1.0);
+  std::vector<ThrustSample> thrust;
+  for (const ImuSample& s : imu) thrust.push_back({s.t, f.specificForce(toSeconds(s.t))});
+  const double dt = 0.02, t_i = 0.5;
+  const auto pit = PreintegratedThrust::integrate(imu, thrust, fromSeconds(t_i), fromSeconds(t_i + dt),
+                                                  Vec6::Zero(), ThrustNoiseParams());
+  DragLaw d = vehicleDrag();
+  d.sigma = Vec3(0.6, 0.5, 1.0);
+  const Mat6 constant = dragCovariance(pit, d, Vec3::Zero(), Vec3::Zero());
+  d.sigma_rate = Vec3::Constant(1e-200);
+  EXPECT_LT((dragCovariance(pit, d, Vec3::Zero(), Vec3::Zero()) - constant).norm(), 1e-12 * constant.norm());
+
+  d.sigma_rate.setZero();
+  d.sigma_speed = Vec3(0.1, 0.05, 0.2);
+  d.sigma_thrust = Vec3(0.0, 0.0, 0.03);
+  const Vec3 u(10.0, -4.0, 1.0);
+  const Mat6 C = dragCovariance(pit, d, u, u);
+  const Vec3 w = f.gyro(t_i);
+  const Vec3 var = d.sigmaAt(u, w, f.specificForce(t_i).norm()).cwiseAbs2();
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(C(3 + a, 3 + a), dt * dt * var(a), 0.05 * dt * dt * var(a)) << a;
+    EXPECT_GT(C(3 + a, 3 + a), 1.5 * constant(3 + a, 3 + a)) << a;
+  }
 }
 
 }  // namespace

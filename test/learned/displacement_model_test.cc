@@ -165,7 +165,31 @@ TEST(ForceWeightFile, Version3CarriesRotorLiftAndSigma) {
   expectFailure(replaced(text, line, "drag_law 0 0 0 0 0.0108 0.0469 0.242 0.187 0.068 -0.0164 0.63 0.49 1.03"), 5,
                 "drag_law coefficients must be non-negative");
   expectFailure(replaced(text, line, "drag_law 0 0 0 0 0.0108 0.0469 0.242 0.187 0.068 0.0164"), 5,
-                "drag_law <dx> <dy> <dz> <cx> <cy> <cz> [<rx> <ry> <rz> <lift> <sx> <sy> <sz>]");
+                "drag_law <dx> <dy> <dz> <cx> <cy> <cz> [<rx> <ry> <rz> <lift> <sx> <sy> <sz> "
+                "[<speed x y z> <rate x y z> <thrust x y z>]]");
+}
+
+// A sigma that grows with speed, body rate and thrust appends its nine coefficients (22 numbers).
+TEST(ForceWeightFile, Version3CarriesASigmaThatGrows) {
+  const Tcn tcn = testing::deterministicTcn();
+  TcnFileInfo info;
+  info.drag_law.rotor = Vec3(0.242, 0.187, 0.068);
+  info.drag_law.sigma = Vec3(0.037, 0.056, 0.17);
+  info.drag_law.sigma_speed = Vec3(0.03, 0.013, 0.0);
+  info.drag_law.sigma_rate = Vec3(0.23, 0.26, 0.51);
+  info.drag_law.sigma_thrust = Vec3(0.027, 0.013, 0.076);
+  const std::string text = formatTcnFile(tcn, info);
+  const std::string line =
+      "drag_law 0 0 0 0 0 0 0.242 0.187 0.068 0 0.037 0.056 0.17 0.03 0.013 0 0.23 0.26 0.51 0.027 0.013 0.076";
+  EXPECT_NE(text.find("\n" + line + "\n"), std::string::npos) << text.substr(0, 300);
+  const DragLaw back = parseTcnFile(text, "v3.tcn").info.drag_law;
+  EXPECT_EQ(back.sigma, info.drag_law.sigma);
+  EXPECT_EQ(back.sigma_speed, info.drag_law.sigma_speed);
+  EXPECT_EQ(back.sigma_rate, info.drag_law.sigma_rate);
+  EXPECT_EQ(back.sigma_thrust, info.drag_law.sigma_thrust);
+  expectFailure(replaced(text, line, line.substr(0, line.size() - 6)), 5, "drag_law <dx>");
+  expectFailure(replaced(text, line, line.substr(0, line.size() - 5) + "-0.076"), 5,
+                "drag_law coefficients must be non-negative");
 }
 
 TEST(DisplacementModel, LoadChecksTaskAndSigma) {

@@ -267,6 +267,14 @@ TEST_F(HdvioRun, DragLawIsEvaluatedAtTheEstimatedVelocity) {
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find("'backend.drag_linear': values must be non-negative"), std::string::npos)
       << bad.output;
+  // The sigma's growth terms are backend keys too (an unknown key would be a different error).
+  const std::string negative_sigma = writeConfig(
+      "neg_sigma.yaml", "method: hdvio\nbackend:\n  drag_linear: [0.3, 0.3, 0.05]\n  drag_sigma_rate: [0.2, -0.2, 0.5]\n");
+  bad = run("--config " + negative_sigma + " --dataset " + (dir_ / "seq").string() + " --out " +
+            (dir_ / "o_neg_sigma").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("'backend.drag_sigma_rate': values must be non-negative"), std::string::npos)
+      << bad.output;
   const std::string low_max = writeConfig(
       "low_max.yaml",
       "method: hdvio\nbackend:\n  force_random_walk: 0.5\n  force_walk_adaptive: true\n"

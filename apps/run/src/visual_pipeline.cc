@@ -120,7 +120,10 @@ class VisualPipeline : public MethodPipeline {
     const auto same = [](const Vec3& a, const Vec3& b) { return (a - b).norm() <= 1e-6 * std::max(1.0, b.norm()); };
     if (drag.enabled() && (!same(drag.linear, law.linear) || !same(drag.quadratic, law.quadratic) ||
                            !same(drag.rotor, law.rotor) || std::abs(drag.lift - law.lift) > 1e-9 ||
-                           (!drag.sigma.isZero(0.0) && !same(drag.sigma, law.sigma))))
+                           (drag.hasSigma() && (!same(drag.sigma, law.sigma) ||
+                                                !same(drag.sigma_speed, law.sigma_speed) ||
+                                                !same(drag.sigma_rate, law.sigma_rate) ||
+                                                !same(drag.sigma_thrust, law.sigma_thrust)))))
       throw InputError(config_path, 0,
                        "backend.drag_* keys differ from the drag law the residual-force network was "
                        "trained with (its weight file)");

@@ -4,11 +4,13 @@
 // chosen drag terms on those flights' training blocks (every --validation_every-th block of
 // --validation_block_seconds is left out, as hdvio_train does) and scores the i-th flight, which
 // the fold never read: force RMSE of the thrust model, thrust + law (at the recorded velocity)
-// and, for NeuroBEM, the dataset's own model. The law's uncertainty is a per-axis sigma, the
-// RMS of its residual on the fold's training blocks; the fold reports how many error
-// components of the held-out flight fall within 1 and 2 sigma. Last, the law, C_T and sigma
+// and, for NeuroBEM, the dataset's own model. The law's uncertainty is a per-axis sigma fitted
+// on the fold's training blocks (constant, or growing with speed, body rate and thrust:
+// --sigma_terms, core/drag_law.h); the fold reports how many error components of the held-out
+// flight fall within 1 and 2 sigma, and their mean Gaussian NLL. Last, the law, C_T and sigma
 // fitted on all flights (the model to ship).
 //   hdvio_drag_lofo --data_root ../shared/data --data <flights> --mass 0.772 --terms rotor,quadratic
+//     --sigma_terms speed,rate,thrust
 #include <cstdarg>
 #include <cstdio>
 #include <string>
@@ -29,6 +31,7 @@ DEFINE_string(data, "", "comma-separated flights (rotor speeds, IMU, ground trut
 DEFINE_string(data_root, "", "prefix for relative --data paths (e.g. ../shared/data)");
 DEFINE_double(mass, 0.0, "kg (required): C_T for this mass, results in N");
 DEFINE_string(terms, "linear,quadratic", "drag terms to fit: any of linear, rotor, quadratic, lift");
+DEFINE_string(sigma_terms, "constant", "the law's sigma: constant, or with any of speed, rate, thrust");
 DEFINE_double(validation_block_seconds, 5.0, "block length of the training flights' split");
 DEFINE_int32(validation_every, 6, "every n-th block is left out of the fit (0: none)");
 DEFINE_double(rate_hz, 100.0, "resampling rate");
@@ -55,7 +58,8 @@ struct FittedModel {
 };
 
 // C_T on the flights, then the law and its residual sigma on their training blocks.
-FittedModel fitOn(const std::vector<std::string>& flights, const DragTerms& terms) {
+FittedModel fitOn(const std::vector<std::string>& flights, const DragTerms& terms,
+                  const DragSigmaTerms& sigma_terms) {
   train::FlightSource source;
   source.data_root = FLAGS_data_root;
   std::vector<Sequence> sequences;
@@ -70,7 +74,7 @@ FittedModel fitOn(const std::vector<std::string>& flights, const DragTerms& term
     train::splitIntoBlocks(train::loadFlight(p, source),
                            static_cast<std::size_t>(FLAGS_validation_block_seconds * FLAGS_rate_hz),
                            static_cast<std::size_t>(FLAGS_validation_every), &train_blocks, &left_out);
-  m.law = train::fitDragLawOn(train_blocks, terms);
+  m.law = train::fitDragLawOn(train_blocks, terms, sigma_terms);
   for (const auto& b : train_blocks) m.samples += b.size();
   return m;
 }
@@ -78,10 +82,17 @@ FittedModel fitOn(const std::vector<std::string>& flights, const DragTerms& term
 void printLaw(const FittedModel& m) {
   const DragLaw& d = m.law;
   report("C_T %.6e N s^2 rad^-2; drag law linear [%.6g, %.6g, %.6g] 1/s, rotor [%.6g, %.6g, %.6g] 1/s, "
-              "quadratic [%.6g, %.6g, %.6g] 1/m, lift %.6g 1/m; residual sigma [%.4f, %.4f, %.4f] N (%zu samples)\n",
+              "quadratic [%.6g, %.6g, %.6g] 1/m, lift %.6g 1/m; residual sigma [%.4f, %.4f, %.4f] N",
               m.thrust_coefficient, d.linear.x(), d.linear.y(), d.linear.z(), d.rotor.x(), d.rotor.y(),
               d.rotor.z(), d.quadratic.x(), d.quadratic.y(), d.quadratic.z(), d.lift, FLAGS_mass * d.sigma.x(),
-              FLAGS_mass * d.sigma.y(), FLAGS_mass * d.sigma.z(), m.samples);
+              FLAGS_mass * d.sigma.y(), FLAGS_mass * d.sigma.z());
+  if (d.hasVaryingSigma())
+    report(" + per m/s [%.4f, %.4f, %.4f] N s/m, per rad/s [%.4f, %.4f, %.4f] N s, per m/s^2 of thrust "
+                "[%.4f, %.4f, %.4f] kg", FLAGS_mass * d.sigma_speed.x(), FLAGS_mass * d.sigma_speed.y(),
+                FLAGS_mass * d.sigma_speed.z(), FLAGS_mass * d.sigma_rate.x(), FLAGS_mass * d.sigma_rate.y(),
+                FLAGS_mass * d.sigma_rate.z(), FLAGS_mass * d.sigma_thrust.x(), FLAGS_mass * d.sigma_thrust.y(),
+                FLAGS_mass * d.sigma_thrust.z());
+  report(" (%zu samples)\n", m.samples);
 }
 
 struct FoldResult {
@@ -106,7 +117,7 @@ FoldResult scoreHeldOut(const std::string& flight, const FittedModel& m) {
   const std::vector<Vec3> pred = train::thrustPlusLaw(f, m.law);
   r.thrust = learned::forceRmse(f.thrust, f.force, FLAGS_mass);
   r.law = learned::forceRmse(pred, f.force, FLAGS_mass);
-  r.coverage = learned::sigmaCoverage(pred, std::vector<Vec3>(f.size(), m.law.sigma), f.force);
+  r.coverage = learned::sigmaCoverage(pred, train::lawSigma(f, m.law), f.force);
   r.has_neurobem = train::isNeuroBemFile(flight);
   if (r.has_neurobem)
     r.neurobem = learned::forceRmse(train::neuroBemForcesAt(flight, source, f.t, FLAGS_mass), f.force, FLAGS_mass);
@@ -117,7 +128,7 @@ FoldResult scoreHeldOut(const std::string& flight, const FittedModel& m) {
 
 int main(int argc, char** argv) {
   parseToolFlags(&argc, &argv, __FILE__,
-      "usage: hdvio_drag_lofo --data_root <dir> --data <flight>,<flight>[,...] --mass <kg> [--terms linear,rotor,quadratic]\n"
+      "usage: hdvio_drag_lofo --data_root <dir> --data <flight>,<flight>[,...] --mass <kg> [--terms linear,rotor,quadratic] [--sigma_terms speed,rate,thrust]\n"
       "leave-one-flight-out force RMSE of thrust + drag law, and the law's sigma coverage\n"
       "example: hdvio_drag_lofo --data_root ../shared/data --data neurobem/a.csv,neurobem/b.csv --mass 0.772 --terms rotor,quadratic");
   return runTool([] {
@@ -128,18 +139,21 @@ int main(int argc, char** argv) {
         FLAGS_validation_every == 1)
       throw InputError("", 0, "need --validation_block_seconds * --rate_hz >= 1 and --validation_every 0 or >= 2");
     const DragTerms terms = train::parseDragTerms(train::splitList(FLAGS_terms), "", "--terms");
+    const DragSigmaTerms sigma_terms =
+        train::parseDragSigmaTerms(train::splitList(FLAGS_sigma_terms), "", "--sigma_terms");
     std::vector<FoldResult> results;
     for (int i = 0; i < static_cast<int>(flights.size()); ++i) {
       const learned::FlightFold fold = learned::leaveOneFlightOut(flights, i);
-      const FittedModel m = fitOn(fold.train, terms);
+      const FittedModel m = fitOn(fold.train, terms, sigma_terms);
       report("fold %d, held out %s: ", i, fold.test.c_str());
       printLaw(m);
       results.push_back(scoreHeldOut(fold.test, m));
     }
-    report("\nterms %s: force RMSE F / F_xy / F_z [N] on the held-out flight; the law's sigma "
-                "coverage there (calibrated: 68.3 / 95.4 %%)\n", FLAGS_terms.c_str());
+    report("\nterms %s, sigma %s: force RMSE F / F_xy / F_z [N] on the held-out flight; the law's sigma "
+                "there: coverage (calibrated: 68.3 / 95.4 %%) and mean NLL per component (m/s^2)\n",
+                FLAGS_terms.c_str(), FLAGS_sigma_terms.c_str());
     report("| held-out flight (samples) | thrust model | thrust + drag law (true v) | NeuroBEM (full state) "
-                "| law / NeuroBEM (F) | within 1 / 2 sigma |\n|---|---|---|---|---|---|\n");
+                "| law / NeuroBEM (F) | within 1 / 2 sigma | NLL |\n|---|---|---|---|---|---|---|\n");
     for (const FoldResult& r : results) {
       report("| %s (%zu) | %.4f / %.4f / %.4f | %.4f / %.4f / %.4f |", r.flight.c_str(), r.samples,
                   r.thrust.f, r.thrust.f_xy, r.thrust.f_z, r.law.f, r.law.f_xy, r.law.f_z);
@@ -148,16 +162,22 @@ int main(int argc, char** argv) {
                     r.law.f / r.neurobem.f);
       else
         report(" - | - |");
-      report(" %.1f / %.1f %% |\n", 100.0 * r.coverage.within_1_sigma, 100.0 * r.coverage.within_2_sigma);
+      report(" %.1f / %.1f %% | %.3f |\n", 100.0 * r.coverage.within_1_sigma, 100.0 * r.coverage.within_2_sigma,
+             r.coverage.mean_nll);
     }
     report("\nall flights: ");
-    const FittedModel all = fitOn(flights, terms);
+    const FittedModel all = fitOn(flights, terms, sigma_terms);
     printLaw(all);
     const DragLaw& d = all.law;  // as hdvio_run backend keys (sigma mass-normalized, m/s^2)
     report("backend keys:\n  drag_linear: [%.9g, %.9g, %.9g]\n  drag_rotor: [%.9g, %.9g, %.9g]\n"
                 "  drag_quadratic: [%.9g, %.9g, %.9g]\n  drag_lift: %.9g\n  drag_sigma: [%.9g, %.9g, %.9g]\n",
                 d.linear.x(), d.linear.y(), d.linear.z(), d.rotor.x(), d.rotor.y(), d.rotor.z(), d.quadratic.x(),
                 d.quadratic.y(), d.quadratic.z(), d.lift, d.sigma.x(), d.sigma.y(), d.sigma.z());
+    if (d.hasVaryingSigma())
+      report("  drag_sigma_speed: [%.9g, %.9g, %.9g]\n  drag_sigma_rate: [%.9g, %.9g, %.9g]\n"
+                  "  drag_sigma_thrust: [%.9g, %.9g, %.9g]\n", d.sigma_speed.x(), d.sigma_speed.y(),
+                  d.sigma_speed.z(), d.sigma_rate.x(), d.sigma_rate.y(), d.sigma_rate.z(), d.sigma_thrust.x(),
+                  d.sigma_thrust.y(), d.sigma_thrust.z());
     report("thrust_coefficient: %.9g\n", all.thrust_coefficient);
     std::fputs(g_report.c_str(), stdout);
     return 0;

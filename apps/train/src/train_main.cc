@@ -41,8 +41,8 @@ std::string vecString(const Vec3& v) {
   return buf;
 }
 
-// model.drag_law: none | fit (optional drag_terms) | given (then drag_linear, drag_quadratic,
-// optional drag_rotor, drag_lift, drag_sigma). The law
+// model.drag_law: none | fit (optional drag_terms, drag_sigma_terms) | given (then drag_linear,
+// drag_quadratic, optional drag_rotor, drag_lift, drag_sigma, drag_sigma_speed / _rate / _thrust). The law
 // (core/drag_law.h) is the physics part of the hybrid model: the network learns what it leaves,
 // and the weight file (version 3) carries the law to hdvio_run.
 Vec3 readDragCoefficients(const ConfigReader& m, const std::string& key) {
@@ -53,7 +53,8 @@ Vec3 readDragCoefficients(const ConfigReader& m, const std::string& key) {
   return Vec3(c[0], c[1], c[2]);
 }
 
-learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag, bool* fit_drag, DragTerms* terms) {
+learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag, bool* fit_drag, DragTerms* terms,
+                                   DragSigmaTerms* sigma_terms) {
   learned::TcnArchitecture a;
   train::readTcnShape(m, &a);
   m.readOptional("variance_head", &a.variance_head);
@@ -64,6 +65,10 @@ learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag, bool* f
     std::vector<std::string> t{"linear", "quadratic"};
     m.readOptional("drag_terms", &t);
     *terms = train::parseDragTerms(t, m.file(), "key 'model.drag_terms'");
+    // drag_sigma_terms: what the law's sigma grows with besides a constant (speed, rate, thrust).
+    std::vector<std::string> st;
+    m.readOptional("drag_sigma_terms", &st);
+    *sigma_terms = train::parseDragSigmaTerms(st, m.file(), "key 'model.drag_sigma_terms'");
   }
   if (law == "given") {
     drag->linear = readDragCoefficients(m, "drag_linear");
@@ -71,6 +76,9 @@ learned::TcnArchitecture readModel(const ConfigReader& m, DragLaw* drag, bool* f
     drag->rotor = readDragCoefficients(m, "drag_rotor");
     m.readInRange("drag_lift", &drag->lift, 0.0, 10.0);
     drag->sigma = readDragCoefficients(m, "drag_sigma");
+    drag->sigma_speed = readDragCoefficients(m, "drag_sigma_speed");
+    drag->sigma_rate = readDragCoefficients(m, "drag_sigma_rate");
+    drag->sigma_thrust = readDragCoefficients(m, "drag_sigma_thrust");
     if (!drag->enabled())
       throw InputError(m.file(), 0, "key 'model.drag_law': given needs a non-zero coefficient");
   }
@@ -106,9 +114,16 @@ void writeEffectiveConfig(const std::string& path, const std::string& comment,
     n["model"]["drag_quadratic"] =
         std::vector<double>{drag.quadratic.x(), drag.quadratic.y(), drag.quadratic.z()};
     n["model"].remove("drag_terms");
+    n["model"].remove("drag_sigma_terms");
     n["model"]["drag_rotor"] = std::vector<double>{drag.rotor.x(), drag.rotor.y(), drag.rotor.z()};
     n["model"]["drag_lift"] = drag.lift;
     n["model"]["drag_sigma"] = std::vector<double>{drag.sigma.x(), drag.sigma.y(), drag.sigma.z()};
+    if (drag.hasVaryingSigma()) {
+      const auto vec = [](const Vec3& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
+      n["model"]["drag_sigma_speed"] = vec(drag.sigma_speed);
+      n["model"]["drag_sigma_rate"] = vec(drag.sigma_rate);
+      n["model"]["drag_sigma_thrust"] = vec(drag.sigma_thrust);
+    }
   }
   YAML::Emitter e;
   e.SetDoublePrecision(9);
@@ -153,7 +168,9 @@ int main(int argc, char** argv) {
     DragLaw drag;
     bool fit_drag = false;
     DragTerms drag_terms;
-    const learned::TcnArchitecture arch = readModel(config.section("model"), &drag, &fit_drag, &drag_terms);
+    DragSigmaTerms drag_sigma_terms;
+    const learned::TcnArchitecture arch =
+        readModel(config.section("model"), &drag, &fit_drag, &drag_terms, &drag_sigma_terms);
     learned::TrainOptions options = readTraining(config.section("training"));
     config.finish();
     if (train_paths.empty()) throw InputError(FLAGS_config, 0, "data.train lists no flights");
@@ -201,12 +218,16 @@ int main(int argc, char** argv) {
     }
     for (const auto& p : validation_paths) validation_flights.push_back(train::loadFlight(p, source));
 
-    if (fit_drag) drag = train::fitDragLawOn(train_flights, drag_terms);
+    if (fit_drag) drag = train::fitDragLawOn(train_flights, drag_terms, drag_sigma_terms);
     if (drag.enabled())
       std::cout << "drag law: linear " << vecString(drag.linear) << " quadratic "
                 << vecString(drag.quadratic) << " rotor " << vecString(drag.rotor) << " lift " << drag.lift
-                << (fit_drag ? " (fitted on the training part)" : "")
-                << "\n";
+                << " sigma " << vecString(drag.sigma)
+                << (drag.hasVaryingSigma() ? " + per m/s " + vecString(drag.sigma_speed) + ", per rad/s " +
+                                                 vecString(drag.sigma_rate) + ", per m/s^2 of thrust " +
+                                                 vecString(drag.sigma_thrust)
+                                           : std::string())
+                << (fit_drag ? " (fitted on the training part)" : "") << "\n";
     options.drag = drag;
     if (!FLAGS_effective_config.empty())
       writeEffectiveConfig(FLAGS_effective_config, fold_note, train_paths, thrust_coefficient, drag);

@@ -22,13 +22,33 @@ struct DragLaw {
   Vec3 rotor = Vec3::Zero();      // D_r, 1/s at hover thrust, body axes
   Vec3 quadratic = Vec3::Zero();  // C, 1/m, body axes
   double lift = 0.0;              // k_h, 1/m: thrust gained with horizontal speed, + k_h (u_x^2 + u_y^2) on z
-  // How far the law is from the measured force: the per-axis standard deviation of its
-  // residual (m/s^2, body axes) on the flights it was fitted on. The dynamics factor adds it to
-  // its covariance (drag_model.h); zero: the law counts as exact. Not part of enabled().
-  Vec3 sigma = Vec3::Zero();
+  // How far the law is from the measured force, per body axis: a zero-mean Gaussian whose
+  // variance grows where the law is least exact (fast, rotating, thrust far from hover),
+  //   sigma_a(u, w, T)^2 = sigma_a^2 + (sigma_speed_a |u|)^2 + (sigma_rate_a |w|)^2
+  //                        + (sigma_thrust_a (T - T_hover))^2        (m/s^2; w body rate, rad/s),
+  // fitted by the Gaussian likelihood of the law's residual (withFittedSigma). The dynamics
+  // factor adds it to its covariance (drag_model.h); all zero: the law counts as exact. Not
+  // part of enabled().
+  Vec3 sigma = Vec3::Zero();         // m/s^2
+  Vec3 sigma_speed = Vec3::Zero();   // 1/s: per m/s of body speed
+  Vec3 sigma_rate = Vec3::Zero();    // m/s: per rad/s of body rate
+  Vec3 sigma_thrust = Vec3::Zero();  // 1: per m/s^2 of thrust away from hover
 
   bool enabled() const {
     return !linear.isZero(0.0) || !rotor.isZero(0.0) || !quadratic.isZero(0.0) || lift != 0.0;
+  }
+  bool hasSigma() const {
+    return !sigma.isZero(0.0) || !sigma_speed.isZero(0.0) || !sigma_rate.isZero(0.0) || !sigma_thrust.isZero(0.0);
+  }
+  // True when the sigma depends on speed, rate or thrust (not a constant per axis).
+  bool hasVaryingSigma() const {
+    return !sigma_speed.isZero(0.0) || !sigma_rate.isZero(0.0) || !sigma_thrust.isZero(0.0);
+  }
+  Vec3 sigmaAt(const Vec3& u, const Vec3& omega, double thrust) const {
+    const double dT = thrust - kHoverThrust;
+    return (sigma.cwiseAbs2() + u.squaredNorm() * sigma_speed.cwiseAbs2() +
+            omega.squaredNorm() * sigma_rate.cwiseAbs2() + (dT * dT) * sigma_thrust.cwiseAbs2())
+        .cwiseSqrt();
   }
   // s(T): the rotor-speed sum relative to hover (negative thrust counts as none).
   static double rotorScale(double thrust) { return std::sqrt(std::max(thrust, 0.0) / kHoverThrust); }
@@ -64,5 +84,19 @@ struct DragTerms {
 // length or hold fewer than 100 samples, or if no term is chosen.
 DragLaw fitDragLaw(const std::vector<Vec3>& u_body, const std::vector<double>& thrust,
                    const std::vector<Vec3>& force, const DragTerms& terms = {});
+
+// The sigma parts a fit may use besides the constant one.
+struct DragSigmaTerms {
+  bool speed = false, rate = false, thrust = false;
+};
+
+// The law with its sigma (constant and the chosen terms) fitted to the same kind of samples as
+// fitDragLaw plus body rates, by maximum likelihood of the law's residual f_k - law.force(u_k,
+// T_k) under N(0, sigma(u_k, w_k, T_k)^2) per axis (Fisher scoring on the log coefficients,
+// deterministic). With no term it is the residual's RMS. Throws std::invalid_argument if the
+// vectors differ in length or hold fewer than 100 samples.
+DragLaw withFittedSigma(DragLaw law, const std::vector<Vec3>& u_body, const std::vector<Vec3>& omega,
+                        const std::vector<double>& thrust, const std::vector<Vec3>& force,
+                        const DragSigmaTerms& terms = {});
 
 }  // namespace hdvio

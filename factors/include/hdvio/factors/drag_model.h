@@ -25,10 +25,12 @@ struct DragIntegral {
 DragIntegral integrateDrag(const PreintegratedThrust& pit, const DragLaw& drag, const Vec3& u_i,
                            const Vec3& u_j);
 
-// Covariance of [alpha_drag, beta_drag] (6x6, frame i) from the law's residual sigma, taken as
-// one error e ~ N(0, diag(sigma^2)) in the body frame held over the interval (the law misses
-// slowly varying aerodynamics, not white noise): [B_alpha; B_beta] diag(sigma^2) [..]^T with
-// B = sum_k w_k dR_k. Zero without a law or with sigma = 0.
-Mat6 dragCovariance(const PreintegratedThrust& pit, const DragLaw& drag);
+// Covariance of [alpha_drag, beta_drag] (6x6, frame i) from the law's sigma, taken as one
+// standard-normal error z in the body frame held over the interval (the law misses slowly
+// varying aerodynamics, not white noise) and scaled at each node by the sigma there, evaluated
+// at the velocities u_i, u_j (frame i, as in integrateDrag), the node's body rate and thrust:
+// B B^T with B = [sum_k w_alpha,k dR_k diag(sigma_k); sum_k w_beta,k dR_k diag(sigma_k)].
+// Zero without a law or a sigma.
+Mat6 dragCovariance(const PreintegratedThrust& pit, const DragLaw& drag, const Vec3& u_i, const Vec3& u_j);
 
 }  // namespace hdvio

@@ -49,7 +49,7 @@ class ForcePriorDynamicsFactor
             {pose_i, vel_i, force_i, pose_j, vel_j, bias_i}, noiseFor(*pit, params)),
         PointMassDynamics(std::move(pit), params.drag) {}
   static NoiseModelPtr noiseFor(const PreintegratedThrust& pit, const DynamicsFactorParams& params) {
-    return PointMassDynamics::noiseFor(pit, params.drag, params.force_prior_sigma);
+    return PointMassDynamics::noiseFor(pit, params, params.force_prior_sigma);
   }
 };
 

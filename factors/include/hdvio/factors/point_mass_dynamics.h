@@ -21,6 +21,11 @@ struct DynamicsFactorParams {
   double force_random_walk = 1.0;  // HDVIO: m/s^2/sqrt(s)
   double force_prior_sigma = 1.0;  // VIMO / VID-Fusion: m/s^2
   DragLaw drag;                    // none by default (the paper's point-mass model)
+  // Body-frame velocities (frame i) at which the law's sigma is evaluated when it grows with
+  // speed: the prediction when the factor is made. The weight stays fixed for the factor's
+  // life, like every noise model here (a state-dependent weight would make the cost
+  // non-Gaussian and the marginalization's prior inexact).
+  Vec3 sigma_velocity_i = Vec3::Zero(), sigma_velocity_j = Vec3::Zero();
 };
 
 class PointMassDynamics {
@@ -46,10 +51,11 @@ class PointMassDynamics {
   };
 
   PointMassDynamics(std::shared_ptr<const PreintegratedThrust> pit, const DragLaw& drag);
-  // blockdiag(preintegrated [alpha, beta] 6x6 + the drag law's dragCovariance, sigma_f^2 I3);
-  // throws std::invalid_argument unless sigma_f is positive and finite.
-  static std::shared_ptr<const NoiseModel> noiseFor(const PreintegratedThrust& pit, const DragLaw& drag,
-                                                    double sigma_f);
+  // blockdiag(preintegrated [alpha, beta] 6x6 + the drag law's dragCovariance at the params'
+  // sigma velocities, sigma_f^2 I3); throws std::invalid_argument unless sigma_f is positive
+  // and finite.
+  static std::shared_ptr<const NoiseModel> noiseFor(const PreintegratedThrust& pit,
+                                                    const DynamicsFactorParams& params, double sigma_f);
   const PreintegratedThrust& preintegrated() const { return *pit_; }
   // Rows 0-5 of residual (9 entries); returns R_i for the caller's force rows.
   Mat3 evaluate(const Inputs& x, double* residual, const Jacobians* jacobians) const;

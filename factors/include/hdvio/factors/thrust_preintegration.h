@@ -73,6 +73,7 @@ class PreintegratedThrust {
     Mat3 dR = Mat3::Identity();
     double s = 0.0, w_beta = 0.0, w_alpha = 0.0;
     double thrust = 0.0;
+    Vec3 omega = Vec3::Zero();  // body rate (gyro minus bias), for the law's sigma
   };
   const std::vector<DragNode>& dragNodes() const { return drag_nodes_; }
 

@@ -21,11 +21,14 @@ ForceRmse forceRmse(const std::vector<Vec3>& predicted, const std::vector<Vec3>&
 
 // Calibration of a predicted per-axis standard deviation: the fraction of error components
 // (3 per sample) with |predicted - measured| <= k * sigma, for k = 1 and 2. A calibrated
-// Gaussian gives 0.683 and 0.954.
+// Gaussian gives 0.683 and 0.954. mean_nll: the mean Gaussian negative log-likelihood per
+// component (log sigma + z^2 / 2 + log(2 pi) / 2, sigma in the inputs' unit): lower is better,
+// and it punishes a sigma too wide as well as too narrow.
 struct SigmaCoverage {
   double within_1_sigma = 0.0;
   double within_2_sigma = 0.0;
   std::size_t components = 0;
+  double mean_nll = 0.0;
 };
 
 // Throws std::invalid_argument if the sizes differ, are zero, or a sigma is not positive.
