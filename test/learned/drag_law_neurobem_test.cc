@@ -9,6 +9,7 @@
 #include "hdvio/learned/force_metrics.h"
 #include "hdvio/learned/thrust_identification.h"
 #include "hdvio/train/drag_law_fit.h"
+#include "hdvio/train/dynamics_nis.h"
 #include "hdvio/train/flight_loading.h"
 #include "hdvio/train/training_config.h"
 
@@ -52,7 +53,8 @@ TEST(DragLawNeuroBem, RotorAndLiftTermsWinOnTheFastestHeldOutFlight) {
 // The law's sigma on the same fold (docs/learned.md "The law's uncertainty"): a constant sigma
 // from the three slower flights is far too narrow on the fastest one (45 % within 1 sigma); the
 // sigma that grows with speed, body rate and thrust, fitted by likelihood on the same blocks,
-// covers 60-80 % / 85-99 % there and has the lower held-out NLL.
+// covers 60-80 % / 85-99 % there and has the lower held-out NLL; the dynamics factor weighted by
+// it has a normalized residual of about 1 per dof there.
 TEST(DragLawNeuroBem, SigmaThatGrowsIsCalibratedOnTheFastestHeldOutFlight) {
   const std::string root = std::string(HDVIO_DATA_DIR);
   const std::vector<std::string> train_flights = {"neurobem/figure8_1_bemnn20210218170320seg2.csv",
@@ -86,6 +88,19 @@ TEST(DragLawNeuroBem, SigmaThatGrowsIsCalibratedOnTheFastestHeldOutFlight) {
   EXPECT_GT(c1.within_2_sigma, 0.85);
   EXPECT_LT(c1.within_2_sigma, 0.99);
   EXPECT_LT(c1.mean_nll, c0.mean_nll - 1.0);
+
+  // The dynamics factor weighted by it (0.1-s intervals at the recorded states): the velocity
+  // block's normalized residual is ~1 per dof, with the constant sigma ~4 (overconfident).
+  ThrustNoiseParams noise;
+  noise.thrust_noise_density = Vec3::Constant(0.01);
+  const train::DynamicsNis n0 = train::dynamicsNis(f, constant, 10, noise);
+  const train::DynamicsNis n1 = train::dynamicsNis(f, growing, 10, noise);
+  std::printf("figure8_4 held out: dynamics factor NIS / dof (alpha, beta) constant %.2f, %.2f, growing %.2f, %.2f\n",
+              n0.alpha, n0.beta, n1.alpha, n1.beta);
+  EXPECT_GT(n0.beta, 3.0);
+  EXPECT_GT(n1.beta, 0.6);
+  EXPECT_LT(n1.beta, 1.4);
+  EXPECT_LT(n1.alpha, 1.4);
 }
 
 }  // namespace

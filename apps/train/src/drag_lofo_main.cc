@@ -7,10 +7,12 @@
 // and, for NeuroBEM, the dataset's own model. The law's uncertainty is a per-axis sigma fitted
 // on the fold's training blocks (constant, or growing with speed, body rate and thrust:
 // --sigma_terms, core/drag_law.h); the fold reports how many error components of the held-out
-// flight fall within 1 and 2 sigma, and their mean Gaussian NLL. Last, the law, C_T and sigma
+// flight fall within 1 and 2 sigma, their mean Gaussian NLL, and the dynamics factor's normalized
+// residual at the recorded states over --nis_interval_s intervals (dynamics_nis.h). Last, the law, C_T and sigma
 // fitted on all flights (the model to ship).
 //   hdvio_drag_lofo --data_root ../shared/data --data <flights> --mass 0.772 --terms rotor,quadratic
 //     --sigma_terms speed,rate,thrust
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <string>
@@ -24,6 +26,7 @@
 #include "hdvio/learned/force_metrics.h"
 #include "hdvio/learned/thrust_identification.h"
 #include "hdvio/train/drag_law_fit.h"
+#include "hdvio/train/dynamics_nis.h"
 #include "hdvio/train/flight_loading.h"
 #include "hdvio/train/training_config.h"
 
@@ -32,6 +35,10 @@ DEFINE_string(data_root, "", "prefix for relative --data paths (e.g. ../shared/d
 DEFINE_double(mass, 0.0, "kg (required): C_T for this mass, results in N");
 DEFINE_string(terms, "linear,quadratic", "drag terms to fit: any of linear, rotor, quadratic, lift");
 DEFINE_string(sigma_terms, "constant", "the law's sigma: constant, or with any of speed, rate, thrust");
+DEFINE_double(nis_interval_s, 0.1, "interval of the dynamics-factor check on the held-out flight (0: off)");
+DEFINE_double(nis_thrust_noise_density, 0.01,
+              "m/s^2/sqrt(Hz): the factor's thrust white noise in that check (small: the law's sigma "
+              "already holds the thrust model's error)");
 DEFINE_double(validation_block_seconds, 5.0, "block length of the training flights' split");
 DEFINE_int32(validation_every, 6, "every n-th block is left out of the fit (0: none)");
 DEFINE_double(rate_hz, 100.0, "resampling rate");
@@ -101,6 +108,7 @@ struct FoldResult {
   learned::ForceRmse thrust, law, neurobem;
   bool has_neurobem = false;
   learned::SigmaCoverage coverage;
+  train::DynamicsNis nis;
 };
 
 FoldResult scoreHeldOut(const std::string& flight, const FittedModel& m) {
@@ -118,6 +126,12 @@ FoldResult scoreHeldOut(const std::string& flight, const FittedModel& m) {
   r.thrust = learned::forceRmse(f.thrust, f.force, FLAGS_mass);
   r.law = learned::forceRmse(pred, f.force, FLAGS_mass);
   r.coverage = learned::sigmaCoverage(pred, train::lawSigma(f, m.law), f.force);
+  if (FLAGS_nis_interval_s > 0.0) {
+    ThrustNoiseParams noise;
+    noise.thrust_noise_density = Vec3::Constant(FLAGS_nis_thrust_noise_density);
+    r.nis = train::dynamicsNis(f, m.law, static_cast<std::size_t>(std::lround(FLAGS_nis_interval_s * FLAGS_rate_hz)),
+                               noise);
+  }
   r.has_neurobem = train::isNeuroBemFile(flight);
   if (r.has_neurobem)
     r.neurobem = learned::forceRmse(train::neuroBemForcesAt(flight, source, f.t, FLAGS_mass), f.force, FLAGS_mass);
@@ -153,7 +167,8 @@ int main(int argc, char** argv) {
                 "there: coverage (calibrated: 68.3 / 95.4 %%) and mean NLL per component (m/s^2)\n",
                 FLAGS_terms.c_str(), FLAGS_sigma_terms.c_str());
     report("| held-out flight (samples) | thrust model | thrust + drag law (true v) | NeuroBEM (full state) "
-                "| law / NeuroBEM (F) | within 1 / 2 sigma | NLL |\n|---|---|---|---|---|---|---|\n");
+                "| law / NeuroBEM (F) | within 1 / 2 sigma | NLL | factor NIS / dof: alpha, beta, joint |\n"
+                "|---|---|---|---|---|---|---|---|\n");
     for (const FoldResult& r : results) {
       report("| %s (%zu) | %.4f / %.4f / %.4f | %.4f / %.4f / %.4f |", r.flight.c_str(), r.samples,
                   r.thrust.f, r.thrust.f_xy, r.thrust.f_z, r.law.f, r.law.f_xy, r.law.f_z);
@@ -162,8 +177,8 @@ int main(int argc, char** argv) {
                     r.law.f / r.neurobem.f);
       else
         report(" - | - |");
-      report(" %.1f / %.1f %% | %.3f |\n", 100.0 * r.coverage.within_1_sigma, 100.0 * r.coverage.within_2_sigma,
-             r.coverage.mean_nll);
+      report(" %.1f / %.1f %% | %.3f | %.2f, %.2f, %.2f |\n", 100.0 * r.coverage.within_1_sigma,
+             100.0 * r.coverage.within_2_sigma, r.coverage.mean_nll, r.nis.alpha, r.nis.beta, r.nis.joint);
     }
     report("\nall flights: ");
     const FittedModel all = fitOn(flights, terms, sigma_terms);
