@@ -17,22 +17,45 @@ namespace hdvio {
 namespace {
 
 constexpr double kMass = 0.772;
+const char* const kTestFlight = "neurobem/figure8_4_bemnn20210223172724seg2.csv";
 
-TEST(DragLawNeuroBem, RotorAndLiftTermsWinOnTheFastestHeldOutFlight) {
-  const std::string root = std::string(HDVIO_DATA_DIR);
+// The fold that holds out figure8_4: C_T refit on the other three flights, their training blocks
+// (every 6th 5-s block left out, as hdvio_drag_lofo), the source that loads the held-out flight.
+struct Fold {
+  train::FlightSource source;
+  std::vector<learned::FlightSamples> blocks;
+};
+
+Fold figure8_4Fold(const std::string& root) {
   const std::vector<std::string> train_flights = {"neurobem/figure8_1_bemnn20210218170320seg2.csv",
                                                   "neurobem/figure8_2_bemnn20210223104803seg2.csv",
                                                   "neurobem/race_track_2_bemnn20210218172600seg1.csv"};
-  const std::string test_flight = "neurobem/figure8_4_bemnn20210223172724seg2.csv";
-  if (!std::filesystem::exists(root + "/" + test_flight)) GTEST_SKIP() << "missing " << root << "/" << test_flight;
-  train::FlightSource source;
-  source.data_root = root;
+  Fold fold;
+  fold.source.data_root = root;
   std::vector<Sequence> sequences;
-  for (const auto& p : train_flights) sequences.push_back(train::loadSequence(p, source));
-  source.thrust_coefficient = learned::fitThrustJointly(sequences).thrustCoefficient(kMass);
-  source.mass = kMass;
-  std::vector<learned::FlightSamples> blocks, left_out;
-  for (const auto& p : train_flights) train::splitIntoBlocks(train::loadFlight(p, source), 500, 6, &blocks, &left_out);
+  for (const auto& p : train_flights) sequences.push_back(train::loadSequence(p, fold.source));
+  fold.source.thrust_coefficient = learned::fitThrustJointly(sequences).thrustCoefficient(kMass);
+  fold.source.mass = kMass;
+  std::vector<learned::FlightSamples> left_out;
+  for (const auto& p : train_flights)
+    train::splitIntoBlocks(train::loadFlight(p, fold.source), 500, 6, &fold.blocks, &left_out);
+  return fold;
+}
+
+class DragLawNeuroBem : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string root = std::string(HDVIO_DATA_DIR);
+    if (!std::filesystem::exists(root + "/" + kTestFlight)) GTEST_SKIP() << "missing " << root << "/" << kTestFlight;
+    fold_ = figure8_4Fold(root);
+  }
+  Fold fold_;
+};
+
+TEST_F(DragLawNeuroBem, RotorAndLiftTermsWinOnTheFastestHeldOutFlight) {
+  const std::string test_flight = kTestFlight;
+  const train::FlightSource& source = fold_.source;
+  const std::vector<learned::FlightSamples>& blocks = fold_.blocks;
   const DragLaw old_law = train::fitDragLawOn(blocks, DragTerms{true, false, true, false});
   const DragLaw new_law = train::fitDragLawOn(blocks, DragTerms{false, true, true, true});
   EXPECT_GT(new_law.rotor.x(), 0.1);
@@ -55,21 +78,10 @@ TEST(DragLawNeuroBem, RotorAndLiftTermsWinOnTheFastestHeldOutFlight) {
 // sigma that grows with speed, body rate and thrust, fitted by likelihood on the same blocks,
 // covers 60-80 % / 85-99 % there and has the lower held-out NLL; the dynamics factor weighted by
 // it has a normalized residual of about 1 per dof there.
-TEST(DragLawNeuroBem, SigmaThatGrowsIsCalibratedOnTheFastestHeldOutFlight) {
-  const std::string root = std::string(HDVIO_DATA_DIR);
-  const std::vector<std::string> train_flights = {"neurobem/figure8_1_bemnn20210218170320seg2.csv",
-                                                  "neurobem/figure8_2_bemnn20210223104803seg2.csv",
-                                                  "neurobem/race_track_2_bemnn20210218172600seg1.csv"};
-  const std::string test_flight = "neurobem/figure8_4_bemnn20210223172724seg2.csv";
-  if (!std::filesystem::exists(root + "/" + test_flight)) GTEST_SKIP() << "missing " << root << "/" << test_flight;
-  train::FlightSource source;
-  source.data_root = root;
-  std::vector<Sequence> sequences;
-  for (const auto& p : train_flights) sequences.push_back(train::loadSequence(p, source));
-  source.thrust_coefficient = learned::fitThrustJointly(sequences).thrustCoefficient(kMass);
-  source.mass = kMass;
-  std::vector<learned::FlightSamples> blocks, left_out;
-  for (const auto& p : train_flights) train::splitIntoBlocks(train::loadFlight(p, source), 500, 6, &blocks, &left_out);
+TEST_F(DragLawNeuroBem, SigmaThatGrowsIsCalibratedOnTheFastestHeldOutFlight) {
+  const std::string test_flight = kTestFlight;
+  const train::FlightSource& source = fold_.source;
+  const std::vector<learned::FlightSamples>& blocks = fold_.blocks;
   const DragTerms terms{false, true, true, true};
   const DragLaw constant = train::fitDragLawOn(blocks, terms);
   const DragLaw growing = train::fitDragLawOn(blocks, terms, DragSigmaTerms{true, true, true});
