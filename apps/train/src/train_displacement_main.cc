@@ -22,6 +22,7 @@
 #include "hdvio/learned/flight_folds.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/torch/displacement_trainer.h"
+#include "hdvio/learned/torch/reproducible_kernels.h"
 #include "hdvio/train/flight_loading.h"
 #include "hdvio/train/training_config.h"
 
@@ -199,6 +200,7 @@ int run() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hdvio::learned::pinReproducibleCpuKernels();  // the same weights on every machine
   hdvio::parseToolFlags(&argc, &argv, __FILE__,
       "usage: hdvio_train_displacement --config <train.yaml> --out <weights.tcn>\n"
       "trains the IMO / TLIO-style displacement network (libtorch)\n"

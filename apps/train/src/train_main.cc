@@ -15,6 +15,7 @@
 #include "hdvio/learned/flight_folds.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/thrust_identification.h"
+#include "hdvio/learned/torch/reproducible_kernels.h"
 #include "hdvio/learned/torch/trainer.h"
 #include "hdvio/train/drag_law_fit.h"
 #include "hdvio/train/flight_loading.h"
@@ -136,6 +137,7 @@ void writeEffectiveConfig(const std::string& path, const std::string& comment,
 }  // namespace
 
 int main(int argc, char** argv) {
+  hdvio::learned::pinReproducibleCpuKernels();  // the same weights on every machine
   hdvio::parseToolFlags(&argc, &argv, __FILE__,
       "usage: hdvio_train --config <train.yaml> --out <weights.tcn>\n"
       "trains the residual-force TCN (libtorch)\n"
