@@ -126,6 +126,8 @@ ImageStep VisualEstimator::addImage(Timestamp t, const cv::Mat& pixels) {
   rec.used_by_backend = r.tracked && rec.tracked_features >= config.min_features_for_backend;
   frontend_s_ += rec.frontend_ms * 1e-3;
 
+  step.observations = r.observations;
+  if (r.keyframe) step.new_landmarks = r.keyframe->new_landmarks;
   FrameObservations frame{t, {}};
   if (rec.used_by_backend)
     for (const auto& o : r.observations) frame.features.push_back({o.landmark_id, o.px});

@@ -152,7 +152,8 @@ VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& option
 ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& options,
                               const VioRunOptions& run, const VisualFrontendConfig& config,
                               std::shared_ptr<const learned::ResidualForceProvider> residual_force,
-                              bool log, const std::function<void(Timestamp)>& on_image) {
+                              bool log, const std::function<void(Timestamp)>& on_image,
+                              const std::function<void(const ImageStep&)>& on_step) {
   if (!seq.hasImages())
     throw InputError(seq.source, 0, "sequence has no camera calibration or no cam0 images");
   if (seq.imu.empty()) throw InputError(seq.source, 0, "sequence has no IMU data");
@@ -190,6 +191,7 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
     }
     ImageFrameRecord& rec = step.record;
     rec.load_ms = load_counted ? 0.0 : load_ms;
+    if (on_step) on_step(step);
     out.reinitializations += rec.reinitialized ? 1 : 0;
     out.load_time_s += rec.load_ms * 1e-3;
     out.images.push_back(rec);

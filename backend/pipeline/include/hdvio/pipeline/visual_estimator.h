@@ -56,6 +56,11 @@ struct ImageStep {
   bool first = false;  // this image carries the first state (its observations start the map)
   ImageFrameRecord record;             // when started
   std::optional<FrameResult> result;   // when the backend produced a state for this image
+  // The frontend's observations of this image (empty when not tracked) and the landmarks its
+  // keyframe added, for diagnostics (hdvio_feature_truth); the backend got the observations
+  // when record.used_by_backend.
+  std::vector<frontend::KeyframeBundle::Observation> observations;
+  std::vector<frontend::KeyframeBundle::NewLandmark> new_landmarks;
 };
 
 // Non-thrust forces at a state, body (IMU) frame, m/s^2.

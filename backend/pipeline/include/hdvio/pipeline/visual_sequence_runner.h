@@ -56,10 +56,12 @@ VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& option
 
 // Also throws InputError when the sequence has no images or an image cannot be read. `log`:
 // print the start, lost-tracking episodes and a summary on stderr. on_image (may be empty):
-// called with each image time (progress display).
+// called with each image time (progress display). on_step (may be empty): called with the
+// estimator's answer for each image after the start (diagnostics).
 ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& backend_options,
                               const VioRunOptions& run, const VisualFrontendConfig& frontend,
                               std::shared_ptr<const learned::ResidualForceProvider> residual_force = nullptr,
-                              bool log = true, const std::function<void(Timestamp)>& on_image = {});
+                              bool log = true, const std::function<void(Timestamp)>& on_image = {},
+                              const std::function<void(const ImageStep&)>& on_step = {});
 
 }  // namespace hdvio

@@ -1,0 +1,209 @@
+#include "feature_truth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+
+#include "hdvio/core/error.h"
+
+namespace hdvio {
+namespace {
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
+  return v[k];
+}
+
+std::string statsLine(const ErrorStats& s) {
+  char b[256];
+  std::snprintf(b, sizeof(b), "n %7d  rms %6.3f  median %6.3f  p90 %6.3f  >1px %5.1f%%  >2px %5.1f%%  "
+                ">5px %5.2f%%  rms(<5px) %6.3f", s.count, s.rms, s.median, s.p90,
+                100 * s.frac_above_1px, 100 * s.frac_above_2px, 100 * s.frac_above_5px, s.rms_below_5px);
+  return b;
+}
+
+}  // namespace
+
+double castRay(const sim::Scene& scene, const Vec3& o, const Vec3& d) {
+  const Vec3& lo = scene.roomMin();
+  const Vec3& hi = scene.roomMax();
+  if ((o.array() <= lo.array()).any() || (o.array() >= hi.array()).any()) return -1.0;
+  double t = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] > 0) t = std::min(t, (hi[a] - o[a]) / d[a]);
+    if (d[a] < 0) t = std::min(t, (lo[a] - o[a]) / d[a]);
+  }
+  const double t_gate = scene.intersectGates(o, d, t, nullptr);
+  return t_gate >= 0.0 ? t_gate : t;
+}
+
+ErrorStats errorStats(std::vector<double> e) {
+  ErrorStats s;
+  s.count = static_cast<int>(e.size());
+  if (e.empty()) return s;
+  double sum2 = 0, sum2_in = 0;
+  int n1 = 0, n2 = 0, n5 = 0;
+  for (double x : e) {
+    sum2 += x * x;
+    n1 += x > 1.0;
+    n2 += x > 2.0;
+    if (x > 5.0) ++n5;
+    else sum2_in += x * x;
+  }
+  const double n = static_cast<double>(e.size());
+  s.rms = std::sqrt(sum2 / n);
+  s.rms_below_5px = n5 < s.count ? std::sqrt(sum2_in / (n - n5)) : 0.0;
+  s.frac_above_1px = n1 / n;
+  s.frac_above_2px = n2 / n;
+  s.frac_above_5px = n5 / n;
+  s.median = quantile(e, 0.5);
+  s.p90 = quantile(e, 0.9);
+  return s;
+}
+
+FeatureTruthChecker::FeatureTruthChecker(const sim::Scene& scene, CameraModel camera,
+                                         const Pose& T_BS, TruthPose truth)
+    : scene_(scene), camera_(std::move(camera)), T_BS_(T_BS), truth_(std::move(truth)) {}
+
+void FeatureTruthChecker::add(const ImageStep& step) {
+  const int image = images_++;
+  if (!step.record.tracked) return;
+  ++tracked_;
+  keyframes_ += step.record.frontend_keyframe;
+  observations_ += static_cast<long long>(step.observations.size());
+  const Timestamp t = step.record.t;
+  const Pose T_WC = trueCamera(t);
+  const Pose T_CW = T_WC.inverse();
+  for (const auto& o : step.observations) {
+    auto [it, fresh] = tracks_.try_emplace(o.landmark_id);
+    Track& tr = it->second;
+    ++tr.count;
+    if (fresh) {
+      tr.first_image = image;
+      bool converged = false;
+      const Vec3 f = camera_.unproject(o.px, &converged);
+      const Vec3 d = T_WC.q * f.normalized();
+      const double dist = converged ? castRay(scene_, T_WC.p, d) : -1.0;
+      tr.valid = dist > 0.0;
+      tr.p_W = T_WC.p + dist * d;
+      continue;
+    }
+    if (!tr.valid) continue;
+    Vec2 uv;
+    if (!camera_.project(T_CW * tr.p_W, &uv)) continue;
+    checked_.push_back({t, o.landmark_id, o.level, image - tr.first_image, o.px - uv});
+  }
+  for (const auto& l : step.new_landmarks) {
+    ++new_landmarks_;
+    if (!l.converged) {
+      ++new_unconverged_;
+      continue;
+    }
+    // Depth from this image's true camera along the landmark's direction: the frontend's world
+    // is the backend's, which started at the true state, so this includes the pose error.
+    const Vec3 d = (l.p_W - T_WC.p).normalized();
+    const double d_true = castRay(scene_, T_WC.p, d);
+    if (d_true > 0.0) new_depth_errors_.push_back(std::abs((l.p_W - T_WC.p).norm() - d_true) / d_true);
+  }
+  if (step.result && step.record.used_by_backend) {
+    ++backend_images_;
+    ++backend_frames_;
+    backend_obs_ += step.result->observations_used;
+    backend_landmarks_ += step.result->landmarks_in_window;
+    backend_outliers_ += step.result->outliers_removed;
+  }
+}
+
+FeatureTruthSummary FeatureTruthChecker::summary() const {
+  FeatureTruthSummary s;
+  s.images = images_;
+  s.tracked_images = tracked_;
+  s.backend_images = backend_images_;
+  s.keyframes = keyframes_;
+  s.observations_per_image = tracked_ ? static_cast<double>(observations_) / tracked_ : 0.0;
+  std::vector<double> all;
+  std::map<int, std::vector<double>> level;
+  const std::vector<std::pair<std::string, int>> ages = {
+      {"1-2", 2}, {"3-5", 5}, {"6-10", 10}, {"11-20", 20}, {"21-40", 40}, {">40", 1 << 30}};
+  std::vector<std::vector<double>> age(ages.size());
+  for (const Checked& c : checked_) {
+    const double e = c.err.norm();
+    all.push_back(e);
+    level[c.level].push_back(e);
+    for (size_t k = 0; k < ages.size(); ++k)
+      if (c.age <= ages[k].second) {
+        age[k].push_back(e);
+        break;
+      }
+  }
+  s.all = errorStats(all);
+  for (auto& [l, v] : level) s.by_level[l] = errorStats(v);
+  for (size_t k = 0; k < ages.size(); ++k) s.by_age.push_back({ages[k].first, errorStats(age[k])});
+  std::vector<double> lengths;
+  for (const auto& [id, tr] : tracks_) lengths.push_back(tr.count);
+  s.landmarks = static_cast<int>(lengths.size());
+  if (!lengths.empty()) {
+    double sum = 0;
+    for (double l : lengths) sum += l;
+    s.track_mean = sum / static_cast<double>(lengths.size());
+  }
+  s.track_median = quantile(lengths, 0.5);
+  s.track_p90 = quantile(lengths, 0.9);
+  s.new_landmarks_per_keyframe = keyframes_ ? static_cast<double>(new_landmarks_) / keyframes_ : 0.0;
+  s.new_unconverged_fraction = new_landmarks_ ? static_cast<double>(new_unconverged_) / new_landmarks_ : 0.0;
+  s.new_depth_error_median = quantile(new_depth_errors_, 0.5);
+  s.new_depth_error_p90 = quantile(new_depth_errors_, 0.9);
+  if (backend_frames_ > 0) {
+    s.backend_observations = backend_obs_ / backend_frames_;
+    s.backend_landmarks = backend_landmarks_ / backend_frames_;
+    s.backend_outliers_per_image = backend_outliers_ / backend_frames_;
+  }
+  return s;
+}
+
+void FeatureTruthChecker::writeObservations(const std::string& path) const {
+  std::ofstream out(path);
+  if (!out) throw InputError(path, 0, "cannot write observations");
+  out << "# t[ns],landmark,level,age[images],err_u[px],err_v[px]\n";
+  char line[160];
+  for (const Checked& c : checked_) {
+    std::snprintf(line, sizeof(line), "%lld,%d,%d,%d,%.4f,%.4f\n", static_cast<long long>(c.t),
+                  c.id, c.level, c.age, c.err.x(), c.err.y());
+    out << line;
+  }
+  if (!out) throw InputError(path, 0, "cannot write observations");
+}
+
+std::string formatSummary(const FeatureTruthSummary& s, const ImageRunOutput& run) {
+  std::string o;
+  char b[512];
+  std::snprintf(b, sizeof(b), "images %d, tracked %d, given to the backend %d, lost %d, re-initializations %d, "
+                "frontend keyframes %d\n", s.images, s.tracked_images, s.backend_images,
+                run.lost_images, run.reinitializations, s.keyframes);
+  o += b;
+  std::snprintf(b, sizeof(b), "frontend observations per tracked image %.1f; landmarks %d, images per "
+                "track mean %.1f median %.0f p90 %.0f\n", s.observations_per_image, s.landmarks,
+                s.track_mean, s.track_median, s.track_p90);
+  o += b;
+  o += "feature error vs true projection [px], all: " + statsLine(s.all) + "\n";
+  for (const auto& [l, st] : s.by_level) o += "  level " + std::to_string(l) + ":  " + statsLine(st) + "\n";
+  for (const auto& [a, st] : s.by_age) {
+    std::snprintf(b, sizeof(b), "  age %-6s ", a.c_str());
+    o += b + statsLine(st) + "\n";
+  }
+  std::snprintf(b, sizeof(b), "new landmarks per keyframe %.1f (unconverged %.1f%%), converged depth error "
+                "median %.2f%% p90 %.2f%%\n", s.new_landmarks_per_keyframe, 100 * s.new_unconverged_fraction,
+                100 * s.new_depth_error_median, 100 * s.new_depth_error_p90);
+  o += b;
+  std::snprintf(b, sizeof(b), "backend per image: observations used %.1f, landmarks in window %.1f, "
+                "outliers removed %.2f\n", s.backend_observations, s.backend_landmarks,
+                s.backend_outliers_per_image);
+  o += b;
+  return o;
+}
+
+}  // namespace hdvio

@@ -1,0 +1,84 @@
+#pragma once
+// Checks the visual pipeline's frontend observations against a simulated scene
+// (hdvio_feature_truth). A landmark's true point is where the ray of its first observation, cast
+// from the true camera pose, meets the scene; each later observation is compared with the
+// projection of that point at the true pose of its image. So the error is what the backend sees:
+// how far a track moves off the physical point it started on (patch drift, noise, mismatches),
+// independent of the estimated poses.
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "hdvio/core/camera_model.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
+#include "hdvio/sim/scene.h"
+
+namespace hdvio {
+
+// Distance along the unit direction d from o (inside the room) to the first scene surface:
+// the room box or a gate. Negative when o is outside the room.
+double castRay(const sim::Scene& scene, const Vec3& o, const Vec3& d);
+
+struct ErrorStats {
+  int count = 0;
+  double rms = 0, median = 0, p90 = 0;
+  double frac_above_1px = 0, frac_above_2px = 0, frac_above_5px = 0;
+  double rms_below_5px = 0;  // the noise part, mismatches left out
+};
+ErrorStats errorStats(std::vector<double> errors_px);
+
+struct FeatureTruthSummary {
+  int images = 0, tracked_images = 0, backend_images = 0, keyframes = 0;
+  double observations_per_image = 0;        // frontend observations, tracked images
+  ErrorStats all;                           // observations after the first of each landmark
+  std::map<int, ErrorStats> by_level;       // pyramid level of the observation
+  std::vector<std::pair<std::string, ErrorStats>> by_age;  // images since the first observation
+  int landmarks = 0;                        // distinct landmark ids observed
+  double track_mean = 0, track_median = 0, track_p90 = 0;  // images per landmark
+  double new_landmarks_per_keyframe = 0, new_unconverged_fraction = 0;
+  double new_depth_error_median = 0, new_depth_error_p90 = 0;  // |d - d_true| / d_true
+  // Backend, over images it processed with observations.
+  double backend_observations = 0, backend_landmarks = 0, backend_outliers_per_image = 0;
+};
+
+class FeatureTruthChecker {
+ public:
+  using TruthPose = std::function<Pose(Timestamp)>;  // true T_WB at an image time
+  FeatureTruthChecker(const sim::Scene& scene, CameraModel camera, const Pose& T_BS, TruthPose truth);
+
+  void add(const ImageStep& step);
+  FeatureTruthSummary summary() const;
+  // t [ns], landmark, level, age [images], error u, v [px] of every checked observation.
+  void writeObservations(const std::string& path) const;
+
+ private:
+  struct Track {
+    bool valid = false;  // the first ray met the scene
+    Vec3 p_W = Vec3::Zero();
+    int first_image = 0, count = 0;
+  };
+  struct Checked {
+    Timestamp t;
+    int id, level, age;
+    Vec2 err;
+  };
+  Pose trueCamera(Timestamp t) const { return truth_(t) * T_BS_; }
+
+  const sim::Scene& scene_;
+  CameraModel camera_;
+  Pose T_BS_;
+  TruthPose truth_;
+  std::map<int, Track> tracks_;
+  std::vector<Checked> checked_;
+  std::vector<double> new_depth_errors_;
+  int images_ = 0, tracked_ = 0, backend_images_ = 0, keyframes_ = 0, new_landmarks_ = 0,
+      new_unconverged_ = 0;
+  long long observations_ = 0;
+  double backend_obs_ = 0, backend_landmarks_ = 0, backend_outliers_ = 0;
+  int backend_frames_ = 0;
+};
+
+std::string formatSummary(const FeatureTruthSummary& s, const ImageRunOutput& run);
+
+}  // namespace hdvio
