@@ -152,6 +152,9 @@ int main(int argc, char** argv) {
     if (!(FLAGS_validation_block_seconds * FLAGS_rate_hz >= 1.0) || FLAGS_validation_every < 0 ||
         FLAGS_validation_every == 1)
       throw InputError("", 0, "need --validation_block_seconds * --rate_hz >= 1 and --validation_every 0 or >= 2");
+    if (!(FLAGS_nis_interval_s >= 0.0) || !std::isfinite(FLAGS_nis_interval_s) ||
+        !(FLAGS_nis_thrust_noise_density >= 0.0) || !std::isfinite(FLAGS_nis_thrust_noise_density))
+      throw InputError("", 0, "--nis_interval_s and --nis_thrust_noise_density must be finite and non-negative");
     const DragTerms terms = train::parseDragTerms(train::splitList(FLAGS_terms), "", "--terms");
     const DragSigmaTerms sigma_terms =
         train::parseDragSigmaTerms(train::splitList(FLAGS_sigma_terms), "", "--sigma_terms");
