@@ -122,7 +122,14 @@ FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPri
         stage_ = TrackingStage::kTracking;
       }
     } else if (!tracked) {
-      if (stage_ == TrackingStage::kTracking) {
+      if (options_.max_relocalization_frames == 0) {
+        // No relocalization: a new map on this image (at the backend's pose when given), so
+        // the image is not lost.
+        reset();
+        frame->features.clear();
+        tracked = initialize(frame, prior, &result);
+        result.reinitialized = tracked;
+      } else if (stage_ == TrackingStage::kTracking) {
         stage_ = TrackingStage::kRelocalizing;
         relocalization_frames_ = 0;
       } else if (++relocalization_frames_ >= options_.max_relocalization_frames) {

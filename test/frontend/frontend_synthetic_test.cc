@@ -97,6 +97,35 @@ TEST_F(FrontendSyntheticFlight, DetectsLossAndReinitializes) {
   EXPECT_LT((r.T_WB.p - bodyPose(k - 1).p).norm(), 0.05);
 }
 
+// max_relocalization_frames: 0 (the image configs): with the backend's pose there is nothing to
+// relocalize against, so the image that loses the map starts a new one and is not lost.
+TEST_F(FrontendSyntheticFlight, ReinitializesOnTheLostImageWhenRelocalizationIsOff) {
+  // The camera turned half around between two images: the map is behind it.
+  const Pose turned = cameraPoseAt(12) * Pose(quatExp(Vec3(0.0, M_PI, 0.0)), Vec3::Zero());
+  const ImageFrame behind{image(12).t, room_.render(camera_, turned)};
+  TrackingPrior prior;
+  prior.T_WB = turned * calibration().T_BS.inverse();
+  for (const int frames : {5, 0}) {
+    FrontendOptions options;
+    options.max_relocalization_frames = frames;
+    SemiDirectFrontend fe(calibration(), options);
+    for (int k = 0; k < 12; ++k) ASSERT_TRUE(fe.track(image(k), this->prior(fe, k)).tracked);
+    ASSERT_EQ(fe.stage(), TrackingStage::kTracking);
+    const FrameResult r = fe.track(behind, prior);
+    if (frames > 0) {
+      EXPECT_FALSE(r.tracked);
+      EXPECT_EQ(r.stage, TrackingStage::kRelocalizing);
+      continue;
+    }
+    EXPECT_TRUE(r.tracked);
+    EXPECT_TRUE(r.reinitialized);
+    ASSERT_TRUE(r.keyframe.has_value());
+    EXPECT_EQ(r.stage, TrackingStage::kBootstrapping);
+    EXPECT_LT((r.T_WB.p - prior.T_WB->p).norm(), 1e-9);  // the new map starts at the given pose
+    EXPECT_GE(r.tracked_features, 50);
+  }
+}
+
 TEST_F(FrontendSyntheticFlight, FollowsTheBackendsCorrections) {
   SemiDirectFrontend fe(calibration());
   int k = 0;

@@ -104,7 +104,7 @@ struct FrontendOptions {
   double init_min_depth = 0.5;       // m
   int bootstrap_max_frames = 10;     // frames that may use pose priors before trusting the map
   int bootstrap_min_converged = 50;  // converged landmarks that end bootstrapping early
-  int max_relocalization_frames = 5; // then re-initialize
+  int max_relocalization_frames = 5; // then re-initialize; 0: re-initialize on the image lost
   bool constant_velocity = true;     // predict the translation from the last two frames
   int structure_points_per_frame = 20;
   int landmark_max_failures = 15;
