@@ -28,19 +28,6 @@ std::string statsLine(const ErrorStats& s) {
 
 }  // namespace
 
-double castRay(const sim::Scene& scene, const Vec3& o, const Vec3& d) {
-  const Vec3& lo = scene.roomMin();
-  const Vec3& hi = scene.roomMax();
-  if ((o.array() <= lo.array()).any() || (o.array() >= hi.array()).any()) return -1.0;
-  double t = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a) {
-    if (d[a] > 0) t = std::min(t, (hi[a] - o[a]) / d[a]);
-    if (d[a] < 0) t = std::min(t, (lo[a] - o[a]) / d[a]);
-  }
-  const double t_gate = scene.intersectGates(o, d, t, nullptr);
-  return t_gate >= 0.0 ? t_gate : t;
-}
-
 ErrorStats errorStats(std::vector<double> e) {
   ErrorStats s;
   s.count = static_cast<int>(e.size());
@@ -66,11 +53,14 @@ ErrorStats errorStats(std::vector<double> e) {
 }
 
 FeatureTruthChecker::FeatureTruthChecker(const sim::Scene& scene, CameraModel camera,
-                                         const Pose& T_BS, TruthPose truth)
-    : scene_(scene), camera_(std::move(camera)), T_BS_(T_BS), truth_(std::move(truth)) {}
+                                         const Pose& T_BS, TruthPose truth,
+                                         CornerClassOptions corner_options)
+    : scene_(scene), camera_(std::move(camera)), T_BS_(T_BS), truth_(std::move(truth)),
+      corner_options_(corner_options) {}
 
 void FeatureTruthChecker::add(const ImageStep& step) {
   const int image = images_++;
+  if (image == 0) first_t_ = step.record.t;
   if (!step.record.tracked) return;
   ++tracked_;
   keyframes_ += step.record.frontend_keyframe;
@@ -84,18 +74,20 @@ void FeatureTruthChecker::add(const ImageStep& step) {
     ++tr.count;
     if (fresh) {
       tr.first_image = image;
-      bool converged = false;
-      const Vec3 f = camera_.unproject(o.px, &converged);
-      const Vec3 d = T_WC.q * f.normalized();
-      const double dist = converged ? castRay(scene_, T_WC.p, d) : -1.0;
-      tr.valid = dist > 0.0;
-      tr.p_W = T_WC.p + dist * d;
+      tr.first_level = o.level;
+      tr.first_px = o.px;
+      tr.corner = classifyCorner(scene_, camera_, T_WC, o.px, o.level, corner_options_);
+      tr.valid = tr.corner.centre.valid();
+      if (tr.valid) {
+        const Vec3 d = T_WC.q * camera_.unproject(o.px).normalized();
+        tr.p_W = T_WC.p + tr.corner.centre.distance * d;
+      }
       continue;
     }
     if (!tr.valid) continue;
     Vec2 uv;
     if (!camera_.project(T_CW * tr.p_W, &uv)) continue;
-    checked_.push_back({t, o.landmark_id, o.level, image - tr.first_image, o.px - uv});
+    checked_.push_back({t, o.landmark_id, o.level, image - tr.first_image, o.px - uv, o.px});
   }
   for (const auto& l : step.new_landmarks) {
     ++new_landmarks_;
@@ -141,6 +133,28 @@ FeatureTruthSummary FeatureTruthChecker::summary() const {
       }
   }
   s.all = errorStats(all);
+  const std::vector<std::pair<std::string, double>> spans = {
+      {"0-1.5", 1.5}, {"1.5-3", 3}, {"3-5", 5}, {"5-8", 8}, {"8-20", 20}, {">20", 1e300}};
+  std::array<std::vector<double>, kNumCornerKinds> corner;
+  std::vector<std::array<std::vector<double>, kNumCornerKinds>> span_corner(spans.size());
+  for (const Checked& c : checked_) {
+    const int k = static_cast<int>(tracks_.at(c.id).corner.kind);
+    const double e = c.err.norm();
+    corner[k].push_back(e);
+    const double t = toSeconds(c.t - first_t_);
+    for (size_t j = 0; j < spans.size(); ++j)
+      if (t < spans[j].second) {
+        span_corner[j][k].push_back(e);
+        break;
+      }
+  }
+  for (int k = 0; k < kNumCornerKinds; ++k) s.by_corner[k] = errorStats(corner[k]);
+  for (size_t j = 0; j < spans.size(); ++j) {
+    FeatureTruthSummary::SpanRow row{spans[j].first, {}};
+    for (int k = 0; k < kNumCornerKinds; ++k) row.by_corner[k] = errorStats(span_corner[j][k]);
+    s.by_span.push_back(row);
+  }
+  for (const auto& [id, tr] : tracks_) ++s.landmarks_by_corner[static_cast<int>(tr.corner.kind)];
   for (auto& [l, v] : level) s.by_level[l] = errorStats(v);
   for (size_t k = 0; k < ages.size(); ++k) s.by_age.push_back({ages[k].first, errorStats(age[k])});
   std::vector<double> lengths;
@@ -168,11 +182,16 @@ FeatureTruthSummary FeatureTruthChecker::summary() const {
 void FeatureTruthChecker::writeObservations(const std::string& path) const {
   std::ofstream out(path);
   if (!out) throw InputError(path, 0, "cannot write observations");
-  out << "# t[ns],landmark,level,age[images],err_u[px],err_v[px]\n";
-  char line[160];
+  out << "# t[ns],landmark,level,age[images],err_u[px],err_v[px],u[px],v[px],first_class,"
+         "first_surface,first_distance[m],first_level,first_u[px],first_v[px],first_depth_step\n";
+  char line[320];
   for (const Checked& c : checked_) {
-    std::snprintf(line, sizeof(line), "%lld,%d,%d,%d,%.4f,%.4f\n", static_cast<long long>(c.t),
-                  c.id, c.level, c.age, c.err.x(), c.err.y());
+    const Track& tr = tracks_.at(c.id);
+    std::snprintf(line, sizeof(line), "%lld,%d,%d,%d,%.4f,%.4f,%.2f,%.2f,%s,%d,%.3f,%d,%.2f,%.2f,%.3f\n",
+                  static_cast<long long>(c.t), c.id, c.level, c.age, c.err.x(), c.err.y(), c.px.x(),
+                  c.px.y(), cornerKindName(tr.corner.kind), tr.corner.centre.surface,
+                  tr.corner.centre.distance, tr.first_level, tr.first_px.x(), tr.first_px.y(),
+                  tr.corner.max_relative_depth_step);
     out << line;
   }
   if (!out) throw InputError(path, 0, "cannot write observations");
@@ -194,6 +213,22 @@ std::string formatSummary(const FeatureTruthSummary& s, const ImageRunOutput& ru
   for (const auto& [a, st] : s.by_age) {
     std::snprintf(b, sizeof(b), "  age %-6s ", a.c_str());
     o += b + statsLine(st) + "\n";
+  }
+  o += "by the class of the landmark's first observation (landmarks; observations after the first):\n";
+  for (int k = 0; k < kNumCornerKinds; ++k) {
+    std::snprintf(b, sizeof(b), "  %-9s %6d  ", cornerKindName(static_cast<CornerKind>(k)), s.landmarks_by_corner[k]);
+    o += b + statsLine(s.by_corner[k]) + "\n";
+  }
+  o += "observations > 5 px [%] (count) by flight time [s] and class:\n";
+  for (const auto& row : s.by_span) {
+    std::snprintf(b, sizeof(b), "  %-6s", row.span.c_str());
+    o += b;
+    for (int k = 0; k < kNumCornerKinds; ++k) {
+      std::snprintf(b, sizeof(b), "  %s %5.1f (%d)", cornerKindName(static_cast<CornerKind>(k)),
+                    100 * row.by_corner[k].frac_above_5px, row.by_corner[k].count);
+      o += b;
+    }
+    o += "\n";
   }
   std::snprintf(b, sizeof(b), "new landmarks per keyframe %.1f (unconverged %.1f%%), converged depth error "
                 "median %.2f%% p90 %.2f%%\n", s.new_landmarks_per_keyframe, 100 * s.new_unconverged_fraction,

@@ -5,6 +5,7 @@
 // projection of that point at the true pose of its image. So the error is what the backend sees:
 // how far a track moves off the physical point it started on (patch drift, noise, mismatches),
 // independent of the estimated poses.
+#include <array>
 #include <functional>
 #include <map>
 #include <string>
@@ -13,12 +14,9 @@
 #include "hdvio/core/camera_model.h"
 #include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/sim/scene.h"
+#include "scene_rays.h"
 
 namespace hdvio {
-
-// Distance along the unit direction d from o (inside the room) to the first scene surface:
-// the room box or a gate. Negative when o is outside the room.
-double castRay(const sim::Scene& scene, const Vec3& o, const Vec3& d);
 
 struct ErrorStats {
   int count = 0;
@@ -34,6 +32,15 @@ struct FeatureTruthSummary {
   ErrorStats all;                           // observations after the first of each landmark
   std::map<int, ErrorStats> by_level;       // pyramid level of the observation
   std::vector<std::pair<std::string, ErrorStats>> by_age;  // images since the first observation
+  // By the class of the landmark's first observation (scene_rays.h): all flight, and per span
+  // of flight time (first image = 0 s).
+  std::array<ErrorStats, kNumCornerKinds> by_corner;
+  std::array<int, kNumCornerKinds> landmarks_by_corner{};
+  struct SpanRow {
+    std::string span;
+    std::array<ErrorStats, kNumCornerKinds> by_corner;
+  };
+  std::vector<SpanRow> by_span;
   int landmarks = 0;                        // distinct landmark ids observed
   double track_mean = 0, track_median = 0, track_p90 = 0;  // images per landmark
   double new_landmarks_per_keyframe = 0, new_unconverged_fraction = 0;
@@ -45,23 +52,27 @@ struct FeatureTruthSummary {
 class FeatureTruthChecker {
  public:
   using TruthPose = std::function<Pose(Timestamp)>;  // true T_WB at an image time
-  FeatureTruthChecker(const sim::Scene& scene, CameraModel camera, const Pose& T_BS, TruthPose truth);
+  FeatureTruthChecker(const sim::Scene& scene, CameraModel camera, const Pose& T_BS, TruthPose truth,
+                      CornerClassOptions corner_options = {});
 
   void add(const ImageStep& step);
   FeatureTruthSummary summary() const;
-  // t [ns], landmark, level, age [images], error u, v [px] of every checked observation.
+  // Every checked observation: t [ns], landmark, level, age [images], error u, v [px], observed
+  // u, v [px], and its landmark's first observation: class, surface, distance [m], level, u, v.
   void writeObservations(const std::string& path) const;
 
  private:
   struct Track {
     bool valid = false;  // the first ray met the scene
     Vec3 p_W = Vec3::Zero();
-    int first_image = 0, count = 0;
+    int first_image = 0, count = 0, first_level = 0;
+    Vec2 first_px = Vec2::Zero();
+    CornerClass corner;
   };
   struct Checked {
     Timestamp t;
     int id, level, age;
-    Vec2 err;
+    Vec2 err, px;
   };
   Pose trueCamera(Timestamp t) const { return truth_(t) * T_BS_; }
 
@@ -69,6 +80,8 @@ class FeatureTruthChecker {
   CameraModel camera_;
   Pose T_BS_;
   TruthPose truth_;
+  CornerClassOptions corner_options_;
+  Timestamp first_t_ = 0;
   std::map<int, Track> tracks_;
   std::vector<Checked> checked_;
   std::vector<double> new_depth_errors_;

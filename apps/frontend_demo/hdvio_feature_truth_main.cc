@@ -83,7 +83,7 @@ int runMain() {
   const ImageRunOutput out = runVioOnImages(seq, e.backend, e.run, e.frontend, nullptr, true, {},
                                             [&](const ImageStep& step) { checker.add(step); });
   const FeatureTruthSummary s = checker.summary();
-  std::printf("%s", formatSummary(s, out).c_str());
+  std::printf("scene: %zu gates\n%s", simulator.scene()->gates().size(), formatSummary(s, out).c_str());
   // Position ATE over the states (one per processed image), posyaw-aligned as hdvio_run reports.
   std::vector<Vec3> est, ref;
   for (const NavState& x : out.vio.states) {
