@@ -58,6 +58,10 @@ void VioBackend::addThrust(const ThrustSample& s) {
 }
 
 void VioBackend::initialize(const NavState& s) {
+  initialize(s, {options_.init_velocity_sigma, options_.init_tilt_sigma});
+}
+
+void VioBackend::initialize(const NavState& s, const StartUncertainty& start) {
   const std::uint64_t k = next_index_++;
   Values values;
   FactorGraph priors;
@@ -67,8 +71,7 @@ void VioBackend::initialize(const NavState& s) {
   // Gauge: position and yaw are fixed by the prior; tilt is observable through gravity.
   // The rotation tangent is in the body frame, so rotate the world-frame covariance into it.
   const Mat3 R = s.T_WB.R();
-  const Vec3 rot_var(options_.init_tilt_sigma * options_.init_tilt_sigma,
-                     options_.init_tilt_sigma * options_.init_tilt_sigma,
+  const Vec3 rot_var(start.tilt_sigma * start.tilt_sigma, start.tilt_sigma * start.tilt_sigma,
                      options_.init_yaw_sigma * options_.init_yaw_sigma);
   Eigen::MatrixXd pose_cov = Eigen::MatrixXd::Zero(6, 6);
   pose_cov.topLeftCorner<3, 3>() =
@@ -76,7 +79,7 @@ void VioBackend::initialize(const NavState& s) {
   pose_cov.bottomRightCorner<3, 3>() = R.transpose() * rot_var.asDiagonal() * R;
   priors.add(std::make_shared<PosePrior>(X(k), s.T_WB, NoiseModel::covariance(pose_cov)));
   priors.add(std::make_shared<VelocityPrior>(
-      V(k), s.v_W, NoiseModel::isotropic(3, options_.init_velocity_sigma)));
+      V(k), s.v_W, NoiseModel::isotropic(3, start.velocity_sigma)));
   Eigen::VectorXd bias_sigmas(6);
   bias_sigmas << Vec3::Constant(options_.init_gyro_bias_sigma),
       Vec3::Constant(options_.init_accel_bias_sigma);
@@ -242,17 +245,14 @@ FrameResult VioBackend::addFrame(const FrameObservations& frame) {
 
 void VioBackend::addVisualFactors(std::uint64_t k, const FrameObservations& frame,
                                   FrameResult* result) {
-  const NoiseModelPtr noise =
-      pixelNoise(options_.pixel_sigma, options_.robust_loss, options_.robust_width_px);
   FactorGraph graph;
   std::vector<int> ids;
   std::vector<int> pending;
   for (const auto& f : frame.features) {
     Track& track = tracks_[f.landmark_id];
-    track.obs[k] = f.uv;
+    track.obs[k] = f;
     if (track.in_graph) {
-      graph.add(std::make_shared<ReprojectionFactor>(X(k), L(f.landmark_id), f.uv, camera_, T_BC_,
-                                                     noise));
+      graph.add(reprojectionFactor(k, f));
       ids.push_back(f.landmark_id);
     } else {
       pending.push_back(f.landmark_id);
@@ -281,19 +281,17 @@ bool VioBackend::tryTriangulate(int id, Track* track) {
   if (static_cast<int>(track->obs.size()) < options_.min_observations) return false;
   std::vector<Pose> poses;
   std::vector<Vec3> rays;
-  for (const auto& [index, uv] : track->obs) {
+  for (const auto& [index, o] : track->obs) {
     poses.push_back(cameraPose(index));
-    rays.push_back(camera_.unproject(uv));
+    rays.push_back(camera_.unproject(o.uv));
   }
   const TriangulationResult tri = triangulate(poses, rays);
   if (!tri.valid || tri.max_ray_angle_rad < options_.min_triangulation_angle_deg * M_PI / 180.0)
     return false;
-  const NoiseModelPtr noise =
-      pixelNoise(options_.pixel_sigma, options_.robust_loss, options_.robust_width_px);
   FactorGraph graph;
   std::vector<std::uint64_t> order;
-  for (const auto& [index, uv] : track->obs) {
-    graph.add(std::make_shared<ReprojectionFactor>(X(index), L(id), uv, camera_, T_BC_, noise));
+  for (const auto& [index, o] : track->obs) {
+    graph.add(reprojectionFactor(index, o));
     order.push_back(index);
   }
   Values values;
@@ -302,6 +300,13 @@ bool VioBackend::tryTriangulate(int id, Track* track) {
   for (std::size_t n = 0; n < order.size(); ++n) track->factors[order[n]] = added.new_factor_ids[n];
   track->in_graph = true;
   return true;
+}
+
+FactorPtr VioBackend::reprojectionFactor(std::uint64_t index, const FeatureObservation& obs) const {
+  const double scale = std::pow(options_.level_sigma_factor, obs.level);
+  return std::make_shared<ReprojectionFactor>(
+      X(index), L(obs.landmark_id), obs.uv, camera_, T_BC_,
+      pixelNoise(options_.pixel_sigma * scale, options_.robust_loss, options_.robust_width_px * scale));
 }
 
 bool VioBackend::isKeyframe(std::uint64_t k) const {
@@ -313,7 +318,7 @@ bool VioBackend::isKeyframe(std::uint64_t k) const {
     if (kf == track.obs.end()) continue;
     ++seen_by_keyframe;
     const auto now = track.obs.find(k);
-    if (now != track.obs.end()) parallax.push_back((now->second - kf->second).norm());
+    if (now != track.obs.end()) parallax.push_back((now->second.uv - kf->second.uv).norm());
   }
   if (parallax.size() < 8) return true;
   if (parallax.size() < options_.keyframe_min_tracked_ratio * seen_by_keyframe) return true;
@@ -330,6 +335,7 @@ int VioBackend::rejectOutliers() {
     for (auto it = track.factors.begin(); it != track.factors.end();) {
       Eigen::VectorXd r;
       const bool ok = smoother_.factor(it->second)->whitenedError(smoother_.estimate(), &r);
+      // In sigmas: a level-L observation is dropped at outlier_threshold_px * level_sigma_factor^L.
       if (!ok || r.norm() * options_.pixel_sigma > options_.outlier_threshold_px) {
         drop.push_back(it->second);
         track.obs.erase(it->first);

@@ -58,6 +58,7 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   c.readInRange("keyframe_parallax_px", &o.keyframe_parallax_px, 0.0, 1000.0);
   c.readInRange("keyframe_min_tracked_ratio", &o.keyframe_min_tracked_ratio, 0.0, 1.0);
   c.readInRange("pixel_sigma", &o.pixel_sigma, 1e-3, 100.0);
+  c.readInRange("level_sigma_factor", &o.level_sigma_factor, 1.0, 4.0);
   std::string loss = "huber";
   c.readChoice("robust_loss", &loss, {"none", "huber", "cauchy"});
   o.robust_loss = loss == "none" ? RobustLoss::kNone

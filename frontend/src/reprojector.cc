@@ -29,7 +29,7 @@ const Landmark::Observation* closestView(const Landmark& lm, const Vec3& center_
 }
 
 bool alignToFrame(const CameraModel& camera, const Landmark& lm, const Landmark::Observation& obs,
-                  Frame* frame, Vec2* px, int* level_out) {
+                  double max_affine_distortion, Frame* frame, Vec2* px, int* level_out) {
   const Frame& kf = *obs.keyframe;
   const Feature& ref = kf.features[obs.feature];
   const Pose T_cur_ref = frame->T_cw * kf.T_cw.inverse();
@@ -41,6 +41,8 @@ bool alignToFrame(const CameraModel& camera, const Landmark& lm, const Landmark:
   const double scale = 1 << level;
   Vec2 p = *px / scale;
   if (!align2D(frame->pyramid[level], patch, 10, &p)) return false;
+  if (max_affine_distortion > 0.0)  // keeps p when the refinement fails
+    align2DAffine(frame->pyramid[level], patch, 10, max_affine_distortion, &p);
   *px = p * scale;
   *level_out = level;
   return true;
@@ -49,7 +51,8 @@ bool alignToFrame(const CameraModel& camera, const Landmark& lm, const Landmark:
 }  // namespace
 
 ReprojectionStats reprojectMap(const CameraModel& camera, const FeatureGrid& grid, int max_features,
-                               int landmark_max_failures, Map* map, Frame* frame) {
+                               int landmark_max_failures, double max_affine_distortion, Map* map,
+                               Frame* frame) {
   ReprojectionStats stats;
   std::vector<std::vector<Candidate>> cells(grid.cells());
   for (auto& [id, lm] : map->landmarks) {
@@ -73,7 +76,7 @@ ReprojectionStats reprojectMap(const CameraModel& camera, const FeatureGrid& gri
       if (!obs) continue;
       Vec2 px = c.px;
       int level = 0;
-      if (!alignToFrame(camera, *c.landmark, *obs, frame, &px, &level)) {
+      if (!alignToFrame(camera, *c.landmark, *obs, max_affine_distortion, frame, &px, &level)) {
         ++stats.failed;
         if (++c.landmark->failed_alignments > landmark_max_failures)
           to_remove.push_back(c.landmark->id);

@@ -5,6 +5,7 @@
 
 #include "hdvio/core/error.h"
 #include "hdvio/core/thread_clock.h"
+#include "hdvio/frontend/depth_hints.h"
 #include "hdvio/frontend/keyframe_selection.h"
 #include "hdvio/frontend/pose_optimizer.h"
 #include "hdvio/frontend/reprojector.h"
@@ -196,16 +197,24 @@ bool SemiDirectFrontend::initialize(const FramePtr& frame, const TrackingPrior& 
     return false;
   }
   frame->features.clear();
-  for (const Corner& c : corners) frame->features.push_back({c.px, camera_.unproject(c.px), c.level, -1});
+  std::vector<Vec2> corner_px;
+  for (const Corner& c : corners) {
+    frame->features.push_back({c.px, camera_.unproject(c.px), c.level, -1});
+    corner_px.push_back(c.px);
+  }
   frame->is_keyframe = true;
   map_.keyframes.push_back(frame);
+  // A hint counts within about a detector cell of the corner.
+  const std::vector<double> depths =
+      hintedDepths(camera_, frame->T_cw, corner_px, prior.map_points_W, options_.detector.cell_size,
+                   options_.init_depth, options_.init_min_depth);
   const std::vector<int> seed_ids =
-      depth_filter_.addKeyframe(frame, frame->features, options_.init_depth, options_.init_min_depth);
+      depth_filter_.addKeyframe(frame, frame->features, depths, options_.init_min_depth);
   const Pose T_wc = frame->T_cw.inverse();
   KeyframeBundle bundle;
   for (std::size_t i = 0; i < frame->features.size(); ++i) {
     Feature& ftr = frame->features[i];
-    LandmarkPtr lm = map_.addLandmark(T_wc * (ftr.f * options_.init_depth), /*converged=*/false);
+    LandmarkPtr lm = map_.addLandmark(T_wc * (ftr.f * depths[i]), /*converged=*/false);
     lm->observations.push_back({frame, static_cast<int>(i)});
     ftr.landmark_id = lm->id;
     depth_filter_.attachLandmark(seed_ids[i], lm->id);
@@ -247,7 +256,8 @@ bool SemiDirectFrontend::trackAgainst(const FramePtr& frame, const Frame& ref,
 
   t0 = Clock::now();
   frame->features.clear();
-  reprojectMap(camera_, grid_, options_.max_features, options_.landmark_max_failures, &map_,
+  reprojectMap(camera_, grid_, options_.max_features, options_.landmark_max_failures,
+               options_.max_affine_distortion, &map_,
                frame.get());
   result->timing.reprojection_ms = msSince(t0);
 

@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "hdvio/pipeline/visual_estimator.h"
 #include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/pipeline/visual_start.h"
 #include "hdvio/core/config.h"
@@ -270,6 +271,37 @@ TEST(VioStarter, MovingStartIsVisualInertial) {
   EXPECT_EQ(o.kind, StartKind::kVisualInertial);
   EXPECT_GT(o.t_s, 1.8);  // needs a ~2 s window
   EXPECT_LT(o.t_s, 3.0);
+}
+
+// The first state's priors follow the start (VisualEstimator): a visual-inertial start is an
+// estimate and keeps the backend's init sigmas; a static start's zero velocity and tilt are
+// guesses and get run.guess_*. Loose priors after a visual-inertial start let a young map pull
+// the window away (docs/visual_pipeline.md "The visual-inertial start's priors").
+TEST(VioStarter, VisualInertialStartKeepsTheBackendsPriorsStaticGetsTheGuess) {
+  const Sequence& seq = movingFlight().sequence;
+  const auto startOf = [&](const VioRunOptions& run) {
+    const VisualEstimatorOptions options{defaultVioBackendOptions(VioMethod::kVio), run, {}};
+    VisualEstimator estimator(options, *seq.camera);
+    std::size_t imu_next = 0;
+    for (const auto& frame : framesFromTracks(seq, 0.5, 12)) {
+      while (imu_next < seq.imu.size() && seq.imu[imu_next].t <= frame.t)
+        estimator.addImu(seq.imu[imu_next++]);
+      if (estimator.addTrackedFrame(frame) && estimator.initialized()) break;
+    }
+    EXPECT_TRUE(estimator.initialized());
+    return std::make_pair(estimator.starter().kind(), estimator.startUncertainty());
+  };
+  const VioBackendOptions backend = defaultVioBackendOptions(VioMethod::kVio);
+  const auto [vi_kind, vi] = startOf(VioRunOptions());
+  EXPECT_EQ(vi_kind, StartKind::kVisualInertial);
+  EXPECT_EQ(vi.velocity_sigma, backend.init_velocity_sigma);
+  EXPECT_EQ(vi.tilt_sigma, backend.init_tilt_sigma);
+  VioRunOptions no_vi;
+  no_vi.visual_inertial_init = false;
+  const auto [static_kind, guess] = startOf(no_vi);
+  EXPECT_EQ(static_kind, StartKind::kStatic);
+  EXPECT_EQ(guess.velocity_sigma, no_vi.guess_velocity_sigma);
+  EXPECT_EQ(guess.tilt_sigma, no_vi.guess_tilt_sigma);
 }
 
 TEST(VioStarter, GroundTruthAtTheFirstFrameAndStaticWhenViIsOff) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "hdvio/core/config.h"
 #include "hdvio/sim/simulator.h"
@@ -105,6 +106,36 @@ TEST(VioBackend, LandmarkBudgetBoundsTheWindow) {
   const Errors e = errorsAgainstTruth(seq, out.states);
   std::printf("vio, 40 landmarks: position rmse %.4f m\n", e.position_rmse);
   EXPECT_LT(e.position_rmse, 0.08);
+}
+
+// A frontend measures a feature on a coarse pyramid level with a coarser pixel: half the
+// landmarks here are "level 2" with 4x the noise. Weighting each observation by its level
+// (level_sigma_factor 2, the noise's true ratio) must estimate the flight better than weighting
+// every observation alike, on average over noise draws (one draw can go either way).
+TEST(VioBackend, CoarseLevelObservationsWeighLess) {
+  const Sequence& seq = flight().sequence;
+  VioRunOptions run;
+  run.init_from_groundtruth = true;
+  double alike = 0.0, weighted = 0.0;
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    std::vector<FrameObservations> frames = framesFromTracks(seq, 0.0, 1);
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0.0, 1.0);
+    for (auto& frame : frames)
+      for (auto& f : frame.features) {
+        f.level = f.landmark_id % 2 == 0 ? 2 : 0;
+        f.uv += 0.5 * (1 << f.level) * Vec2(noise(rng), noise(rng));
+      }
+    VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
+    options.pixel_sigma = 0.5;  // the level-0 noise
+    const double a = errorsAgainstTruth(seq, runVioOnFrames(seq, frames, options, run).states).position_rmse;
+    options.level_sigma_factor = 2.0;
+    const double w = errorsAgainstTruth(seq, runVioOnFrames(seq, frames, options, run).states).position_rmse;
+    std::printf("seed %u: position rmse %.4f m alike, %.4f m weighted by level\n", seed, a, w);
+    alike += a / 3.0;
+    weighted += w / 3.0;
+  }
+  EXPECT_LT(weighted, 0.7 * alike);
 }
 
 TEST(VioBackend, StaticInitializationOnHoverStart) {

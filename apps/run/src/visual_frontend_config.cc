@@ -59,6 +59,7 @@ VisualFrontendConfig loadVisualFrontendConfig(const ConfigReader& r) {
                                   : ObservationSource::kAuto;
   r.readOptional("backend_pose_prior", &c.backend_pose_prior);
   r.readOptional("backend_feedback", &c.backend_feedback);
+  r.readOptional("backend_depth_hints", &c.backend_depth_hints);
   r.readInRange("min_features_for_backend", &c.min_features_for_backend, 0, 100000);
 
   frontend::FrontendOptions& o = c.options;
@@ -76,6 +77,7 @@ VisualFrontendConfig loadVisualFrontendConfig(const ConfigReader& r) {
   r.readOptional("constant_velocity", &o.constant_velocity);
   r.readInRange("structure_points_per_frame", &o.structure_points_per_frame, 0, 100000);
   r.readInRange("landmark_max_failures", &o.landmark_max_failures, 1, 100000);
+  r.readInRange("max_affine_distortion", &o.max_affine_distortion, 0.0, 1.0);
   loadDetector(r.optionalSection("detector"), &o.detector);
   loadAlignment(r.optionalSection("alignment"), &o.alignment);
   loadPose(r.optionalSection("pose"), &o.pose);

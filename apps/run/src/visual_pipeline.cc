@@ -28,6 +28,9 @@ class VisualPipeline : public MethodPipeline {
     r.readOptional("visual_inertial_init", &run_.visual_inertial_init);
     r.readInRange("vi_init_window_s", &run_.vi_init_window_s, 0.5, 10.0);
     r.readInRange("vi_init_timeout_s", &run_.vi_init_timeout_s, 0.0, 60.0);
+    // Prior sigmas of a static start's guessed velocity (m/s) and tilt (rad).
+    r.readInRange("guess_velocity_sigma", &run_.guess_velocity_sigma, 1e-3, 100.0);
+    r.readInRange("guess_tilt_sigma", &run_.guess_tilt_sigma, 1e-4, 1.0);
     r.readInRange("pixel_noise_sigma", &run_.pixel_noise_sigma, 0.0, 100.0);
     r.readInRange("image_noise_sigma", &run_.image_noise_sigma, 0.0, 50.0);
     int seed = static_cast<int>(run_.seed);

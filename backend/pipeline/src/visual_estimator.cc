@@ -18,16 +18,25 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Without ground truth the first velocity and tilt are guesses: let vision and IMU fix them.
 // The first external force is no guess of the start: hdvio measures it over the static
 // window before the first state (accelerometer minus model).
 VisualEstimatorOptions withStartPriors(VisualEstimatorOptions o) {
-  if (!o.start.init_from_groundtruth) {
-    o.backend.init_velocity_sigma = std::max(o.backend.init_velocity_sigma, o.start.guess_velocity_sigma);
-    o.backend.init_tilt_sigma = std::max(o.backend.init_tilt_sigma, o.start.guess_tilt_sigma);
-    o.backend.init_force_window_s = o.start.static_init_window_s;
-  }
+  if (!o.start.init_from_groundtruth) o.backend.init_force_window_s = o.start.static_init_window_s;
   return o;
+}
+
+// The first state's velocity and tilt priors. A static start's zero velocity and gravity
+// direction are guesses: loose, vision and IMU fix them. Ground truth and the visual-inertial
+// initialization are estimates within the backend's init sigmas (0.1 m/s, 0.02 rad; the VI
+// initialization's largest errors on the rendered start flights are 0.06-0.10 m/s and
+// 0.35-0.87 deg, docs/vi_initialization.md); loose priors there let a young map pull the
+// window away (docs/visual_pipeline.md "The visual-inertial start's priors").
+VioBackend::StartUncertainty startPriorFor(StartKind kind, const VisualEstimatorOptions& o) {
+  VioBackend::StartUncertainty u{o.backend.init_velocity_sigma, o.backend.init_tilt_sigma};
+  if (kind == StartKind::kGroundTruth || kind == StartKind::kVisualInertial) return u;
+  u.velocity_sigma = std::max(u.velocity_sigma, o.start.guess_velocity_sigma);
+  u.tilt_sigma = std::max(u.tilt_sigma, o.start.guess_tilt_sigma);
+  return u;
 }
 
 bool plausible(const NavState& s) {
@@ -70,7 +79,8 @@ std::optional<FrameResult> VisualEstimator::addTrackedFrame(const FrameObservati
   if (!backend_.initialized()) {
     const std::optional<NavState> initial = starter_.addFrame(frame);
     if (!initial) return std::nullopt;
-    backend_.initialize(*initial);
+    start_uncertainty_ = startPriorFor(starter_.kind(), options_);
+    backend_.initialize(*initial, start_uncertainty_);
     return firstResult(backend_);
   }
   const FrameResult r = backend_.addFrame(frame);
@@ -98,8 +108,11 @@ ImageStep VisualEstimator::addImage(Timestamp t, const cv::Mat& pixels) {
     const std::optional<NavState> initial = starter_.addFrame(tracks);
     init_s_ += secondsSince(t_init);
     if (!initial) return step;
-    backend_.initialize(*initial);
+    start_uncertainty_ = startPriorFor(starter_.kind(), options_);
+    backend_.initialize(*initial, start_uncertainty_);
     step.first = true;
+    if (const ViInitResult* vi = starter_.viInitResult(); vi && config.backend_depth_hints)
+      for (const auto& [id, p] : vi->landmarks_W) map_points_W_.push_back(p);
   }
   step.started = true;
   ImageFrameRecord& rec = step.record;
@@ -111,6 +124,7 @@ ImageStep VisualEstimator::addImage(Timestamp t, const cv::Mat& pixels) {
   if (!first) prior.q_prev_cur = frontend::integrateGyro(imu_, prev_image_t_, t, latest.bias.head<3>());
   if (first || config.backend_pose_prior || fe.wantsPosePrior())
     prior.T_WB = predictPose(latest, imu_, t, options_.backend.imu);
+  prior.map_points_W = map_points_W_;
   prev_image_t_ = t;
   auto t0 = Clock::now();
   const frontend::FrameResult r = fe.track(frontend::ImageFrame{t, pixels}, prior);
@@ -130,14 +144,20 @@ ImageStep VisualEstimator::addImage(Timestamp t, const cv::Mat& pixels) {
   if (r.keyframe) step.new_landmarks = r.keyframe->new_landmarks;
   FrameObservations frame{t, {}};
   if (rec.used_by_backend)
-    for (const auto& o : r.observations) frame.features.push_back({o.landmark_id, o.px});
+    for (const auto& o : r.observations) frame.features.push_back({o.landmark_id, o.px, o.level});
 
   t0 = Clock::now();
   // The first state comes from the initialization; its observations cannot enter the backend
   // (it has no frame before this one), the frontend keeps them as keyframe 0.
   const FrameResult br = first ? firstResult(backend_) : backend_.addFrame(frame);
   // Feedback: the optimized window keyframes and landmarks into the frontend's map.
-  if (br.processed && config.backend_feedback) fe.applyBackendEstimate(backendEstimate(backend_, fe));
+  if (br.processed && (config.backend_feedback || config.backend_depth_hints)) {
+    frontend::BackendEstimate estimate = backendEstimate(backend_, fe);
+    map_points_W_.clear();
+    if (config.backend_depth_hints)
+      for (const auto& [id, p] : estimate.landmark_p_W) map_points_W_.push_back(p);
+    if (config.backend_feedback) fe.applyBackendEstimate(std::move(estimate));
+  }
   rec.backend_ms = 1e3 * secondsSince(t0);
   backend_s_ += rec.backend_ms * 1e-3;
   if (br.processed) {

@@ -121,10 +121,16 @@ std::vector<FrameObservations> framesFromTracks(const Sequence& seq, double sigm
 VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& options,
                             const VioRunOptions& run,
                             std::shared_ptr<const learned::ResidualForceProvider> residual_force) {
+  return runVioOnFrames(seq, framesFromTracks(seq, run.pixel_noise_sigma, run.seed), options, run,
+                        std::move(residual_force));
+}
+
+VioRunOutput runVioOnFrames(const Sequence& seq, const std::vector<FrameObservations>& frames,
+                            const VioBackendOptions& options, const VioRunOptions& run,
+                            std::shared_ptr<const learned::ResidualForceProvider> residual_force) {
   if (!seq.camera) throw InputError(seq.source, 0, "sequence has no camera calibration");
   if (seq.imu.empty()) throw InputError(seq.source, 0, "sequence has no IMU data");
   SampleFeeder feeder(seq, checkedThrust(seq, options.method));
-  const auto frames = framesFromTracks(seq, run.pixel_noise_sigma, run.seed);
   if (frames.empty()) throw InputError(seq.source, 0, "sequence has no landmark tracks or frames");
 
   VisualEstimator est({options, run, {}}, *seq.camera, std::move(residual_force), groundTruthOf(seq));

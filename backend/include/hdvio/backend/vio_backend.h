@@ -49,7 +49,14 @@ class VioBackend {
   void addThrust(const ThrustSample& sample);
 
   // Starts the window at state.t (a frame time) with priors around state.
+  // The first state with the prior sigmas of velocity (m/s) and tilt (rad) it is known to;
+  // without them the options' init_velocity_sigma and init_tilt_sigma.
+  struct StartUncertainty {
+    double velocity_sigma = 0.1;
+    double tilt_sigma = 0.02;
+  };
   void initialize(const NavState& state);
+  void initialize(const NavState& state, const StartUncertainty& uncertainty);
   bool initialized() const { return !states_.empty(); }
 
   // Requires IMU (and thrust for dynamics modes) up to frame.t.
@@ -68,7 +75,7 @@ class VioBackend {
     bool keyframe;
   };
   struct Track {
-    std::map<std::uint64_t, Vec2> obs;  // state index -> pixel
+    std::map<std::uint64_t, FeatureObservation> obs;  // state index -> observation
     std::map<std::uint64_t, SlidingWindowSmoother::FactorId> factors;
     bool in_graph = false;
   };
@@ -81,6 +88,8 @@ class VioBackend {
   bool isKeyframe(std::uint64_t index) const;
   void addVisualFactors(std::uint64_t index, const FrameObservations& frame, FrameResult* result);
   bool tryTriangulate(int id, Track* track);
+  // The reprojection factor of one observation, its noise from the observation's pyramid level.
+  FactorPtr reprojectionFactor(std::uint64_t index, const FeatureObservation& obs) const;
   int rejectOutliers();
   void maintainWindow();
   void marginalizeState(std::uint64_t index, bool keep_landmark_information);

@@ -29,9 +29,13 @@ struct VioBackendOptions {
   double keyframe_min_tracked_ratio = 0.6;
 
   double pixel_sigma = 1.0;
+  // An observation measured on pyramid level L has sigma and robust width
+  // pixel_sigma * level_sigma_factor^L (1: every level alike; 2: SVO's and the frontend's
+  // pose optimizer's weighting). The outlier test is in sigmas, so it scales the same way.
+  double level_sigma_factor = 1.0;
   RobustLoss robust_loss = RobustLoss::kHuber;
   double robust_width_px = 2.0;
-  double outlier_threshold_px = 6.0;  // reprojection error above which an observation is dropped
+  double outlier_threshold_px = 6.0;  // level-0 reprojection error above which an observation is dropped
   double min_triangulation_angle_deg = 1.0;
   int min_observations = 2;
   // At most this many landmarks in the window (a frontend's feature budget); new landmarks with

@@ -29,6 +29,9 @@ struct TrackingPrior {
   // Body pose for this image from the backend (or, in demos, ground truth while the frontend
   // asks for it, see SemiDirectFrontend::wantsPosePrior).
   std::optional<Pose> T_WB;
+  // 3-D points (world) the backend already has: the initial depths of a new map's corners
+  // (depth_hints.h). Empty: every corner starts at FrontendOptions::init_depth.
+  std::vector<Vec3> map_points_W;
 };
 
 enum class TrackingStage {
@@ -108,6 +111,9 @@ struct FrontendOptions {
   bool constant_velocity = true;     // predict the translation from the last two frames
   int structure_points_per_frame = 20;
   int landmark_max_failures = 15;
+  // > 0: feature alignment also frees the patch's affine distortion up to this norm
+  // (reprojector.h); 0: translation only, as SVO.
+  double max_affine_distortion = 0.0;
   DetectorOptions detector;
   SparseAlignmentOptions alignment;
   PoseOptimizerOptions pose;

@@ -15,7 +15,10 @@ struct ReprojectionStats {
 };
 
 // Appends one Feature (with landmark_id) per matched landmark to frame->features.
+// max_affine_distortion > 0: each match is refined once more with the patch's affine
+// distortion free (align2DAffine, bounded by that norm); 0: translation only (SVO).
 ReprojectionStats reprojectMap(const CameraModel& camera, const FeatureGrid& grid, int max_features,
-                               int landmark_max_failures, Map* map, Frame* frame);
+                               int landmark_max_failures, double max_affine_distortion, Map* map,
+                               Frame* frame);
 
 }  // namespace hdvio::frontend

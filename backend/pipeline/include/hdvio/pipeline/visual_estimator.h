@@ -99,6 +99,8 @@ class VisualEstimator {
   bool hasModelForce() const;
 
   const VioStarter& starter() const { return starter_; }
+  // The first state's velocity and tilt prior sigmas, chosen by the kind of start.
+  const VioBackend::StartUncertainty& startUncertainty() const { return start_uncertainty_; }
   const VioBackendOptions& backendOptions() const { return options_.backend; }
   // Wall time in the backend (frames and feedback), the frontend, and before the first state
   // (KLT tracking and initialization attempts); images given to the KLT tracker.
@@ -116,6 +118,10 @@ class VisualEstimator {
   VioBackend backend_;
   VioStarter starter_;
   std::unique_ptr<frontend::SemiDirectFrontend> frontend_;  // on the first image
+  // The backend's landmarks after the last image (the VI start's at the first): depths for
+  // the frontend when it starts a new map.
+  std::vector<Vec3> map_points_W_;
+  VioBackend::StartUncertainty start_uncertainty_;
   InitFeatureTracker init_tracker_;
   frontend::TrackingStage prev_stage_ = frontend::TrackingStage::kInitializing;
   Timestamp prev_image_t_ = 0;

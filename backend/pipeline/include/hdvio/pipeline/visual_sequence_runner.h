@@ -53,6 +53,11 @@ cv::Mat withImageNoise(const cv::Mat& gray, double sigma, std::uint32_t seed, Ti
 VioRunOutput runVioOnTracks(const Sequence& seq, const VioBackendOptions& options,
                             const VioRunOptions& run,
                             std::shared_ptr<const learned::ResidualForceProvider> residual_force = nullptr);
+// The same on given frames of observations (e.g. framesFromTracks with levels or noise of a
+// test's choosing); run.pixel_noise_sigma is not applied again.
+VioRunOutput runVioOnFrames(const Sequence& seq, const std::vector<FrameObservations>& frames,
+                            const VioBackendOptions& options, const VioRunOptions& run,
+                            std::shared_ptr<const learned::ResidualForceProvider> residual_force = nullptr);
 
 // Also throws InputError when the sequence has no images or an image cannot be read. `log`:
 // print the start, lost-tracking episodes and a summary on stderr. on_image (may be empty):
