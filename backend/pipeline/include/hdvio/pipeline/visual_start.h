@@ -47,8 +47,8 @@ enum class StartKind {
 // "ground truth", "visual-inertial", "static", "static (at rest)", "static (timeout)", "none".
 std::string toString(StartKind kind);
 
-// Gravity direction (roll, pitch) from the mean accelerometer, yaw 0, zero velocity, gyro bias
-// from the mean gyro over the window ending at t. Valid for a static or hovering start.
+// Gravity direction (roll, pitch) from the mean accelerometer over the window ending at t,
+// yaw 0, zero velocity, zero biases. Valid for a static or hovering start.
 // Throws InputError if the window has no IMU samples.
 NavState staticInitialization(const std::vector<ImuSample>& imu, Timestamp t, double window_s);
 
