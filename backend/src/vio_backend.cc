@@ -62,6 +62,8 @@ void VioBackend::initialize(const NavState& s) {
 }
 
 void VioBackend::initialize(const NavState& s, const StartUncertainty& start) {
+  if (!(start.velocity_sigma > 0.0) || !(start.tilt_sigma > 0.0))
+    throw std::invalid_argument("VioBackend::initialize: start sigmas must be positive");
   const std::uint64_t k = next_index_++;
   Values values;
   FactorGraph priors;

@@ -48,13 +48,13 @@ class VioBackend {
   void addImu(const ImuSample& sample);
   void addThrust(const ThrustSample& sample);
 
-  // Starts the window at state.t (a frame time) with priors around state.
-  // The first state with the prior sigmas of velocity (m/s) and tilt (rad) it is known to;
-  // without them the options' init_velocity_sigma and init_tilt_sigma.
+  // Prior sigmas of the first state's velocity (m/s) and tilt (rad): what it is known to.
   struct StartUncertainty {
-    double velocity_sigma = 0.1;
-    double tilt_sigma = 0.02;
+    double velocity_sigma = 0.0;
+    double tilt_sigma = 0.0;
   };
+  // Starts the window at state.t (a frame time) with priors around state; without an
+  // uncertainty, the options' init_velocity_sigma and init_tilt_sigma.
   void initialize(const NavState& state);
   void initialize(const NavState& state, const StartUncertainty& uncertainty);
   bool initialized() const { return !states_.empty(); }
