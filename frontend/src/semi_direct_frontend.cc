@@ -108,8 +108,19 @@ FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPri
 
     const bool pose_fixed = stage_ == TrackingStage::kBootstrapping && prior.T_WB.has_value();
     tracked = trackAgainst(frame, *last_frame_, T_cur_last_guess, rotation_prior, pose_fixed,
-                           &result) ||
-              pose_fixed;  // a backend pose is a pose even when few landmarks matched
+                           &result);
+    bool depth_filter_done = false;
+    if (pose_fixed && !tracked) {
+      // A map started at speed: its provisional landmarks, still at the last image's depths,
+      // miss. On the given pose the seeds can be searched along their epipolar lines first;
+      // the landmarks follow them and are matched again where they are.
+      t0 = Clock::now();
+      updateDepthFilter(*frame);
+      result.timing.depth_filter_ms = msSince(t0);
+      depth_filter_done = true;
+      trackAgainst(frame, *last_frame_, T_cur_last_guess, rotation_prior, pose_fixed, &result);
+      tracked = true;  // a backend pose is a pose even when few landmarks matched
+    }
     if (stage_ == TrackingStage::kBootstrapping) {
       ++bootstrap_frames_;
       if (!tracked) {
@@ -143,9 +154,11 @@ FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPri
       stage_ = TrackingStage::kTracking;
     }
     if (tracked && !result.reinitialized) {
-      t0 = Clock::now();
-      updateDepthFilter(*frame);
-      result.timing.depth_filter_ms = msSince(t0);
+      if (!depth_filter_done) {
+        t0 = Clock::now();
+        updateDepthFilter(*frame);
+        result.timing.depth_filter_ms = msSince(t0);
+      }
       t0 = Clock::now();
       double median_depth = options_.init_depth, min_depth = options_.init_min_depth;
       sceneDepth(*frame, map_, &median_depth, &min_depth);
