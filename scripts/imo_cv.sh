@@ -10,6 +10,8 @@
 #     count and sigma.
 # Usage (from the repository root, data under ../shared/data):
 #   scripts/imo_cv.sh <build dir with libtorch> <work dir> [training config]
+# With IMO_CV_COMPARE=1 it stops after step 3's convention runs (comparing training recipes
+# by their folds' filter ATE at the pooled held-out sigma, before any calibration).
 # (default config/learned/imo_cv_blackbird.yaml; with cross_validation_by: flights, as
 # config/learned/imo_cv_dido.yaml, the filter runs on each fold's held-out flights, whole).
 set -euo pipefail
@@ -66,6 +68,7 @@ for rot in right left; do run_folds $rot $rot "$SIGMA"; done | tee "$W/folds_fil
 mean_ate() { grep "^$1 fold" "$W/folds_filter.txt" | awk '{s += $NF} END {printf "%.4f", s / NR}'; }
 ROT=$(awk -v r="$(mean_ate right)" -v l="$(mean_ate left)" 'BEGIN {print (l < r) ? "left" : "right"}')
 echo "rotation_error $ROT (mean fold ATE right $(mean_ate right), left $(mean_ate left))" | tee -a "$W/folds_filter.txt"
+[ "${IMO_CV_COMPARE:-0}" = 1 ] && exit 0
 # Calibration: twice, scale each axis's sigma by the folds' sqrt(mean (r / sigma)^2), so the
 # displacement updates' NIS on data the networks were not fit on is ~1 per axis.
 for it in 1 2; do

@@ -64,6 +64,7 @@ learned::DisplacementTrainOptions readTraining(const ConfigReader& t) {
   t.readChoice("orientation_perturbation", &perturbation, {"gaussian", "uniform_angle"});
   o.orientation_perturbation = perturbation == "uniform_angle" ? learned::OrientationPerturbation::kUniformAngle
                                                                : learned::OrientationPerturbation::kGaussian;
+  t.readInRange("cosine_schedule_epochs", &o.cosine_schedule_epochs, 0, 100000);
   t.readInRange("orientation_sigma_deg", &o.orientation_sigma_deg, 0.0, 45.0);
   t.readInRange("gyro_bias_range", &o.gyro_bias_range, 0.0, 1.0);
   t.readInRange("accel_bias_range", &o.accel_bias_range, 0.0, 10.0);

@@ -24,7 +24,7 @@ struct VisualFrontendConfig {
   // A new map (the first after a visual-inertial start, a re-initialization after a loss)
   // starts its corners at the depths of the points the backend has (depth_hints.h) instead of
   // init_depth. Off by default: neutral over seeds on the rendered bench flights
-  // (docs/visual_pipeline.md "Affine feature alignment and depth hints").
+  // (docs/visual_pipeline_studies.md "Tried in session 12").
   bool backend_depth_hints = false;
   // Frames with fewer tracked features are given to the backend without observations
   // (IMU-only step) and counted as lost.
