@@ -10,10 +10,10 @@
 #     count and sigma.
 # Usage (from the repository root, data under ../shared/data):
 #   scripts/imo_cv.sh <build dir with libtorch> <work dir> [training config]
-# With IMO_CV_COMPARE=1 it stops after step 3's convention runs (comparing training recipes
-# by their folds' filter ATE at the pooled held-out sigma, before any calibration).
 # (default config/learned/imo_cv_blackbird.yaml; with cross_validation_by: flights, as
 # config/learned/imo_cv_dido.yaml, the filter runs on each fold's held-out flights, whole).
+# With IMO_CV_COMPARE=1 it stops after step 3's convention runs (comparing training recipes
+# by their folds' filter ATE at the pooled held-out sigma, before any calibration).
 set -euo pipefail
 B=${1:?build dir}; W=${2:?work dir}; CFG=${3:-config/learned/imo_cv_blackbird.yaml}
 DATA=../shared/data

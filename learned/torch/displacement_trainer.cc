@@ -206,7 +206,8 @@ DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSa
                   TcnEncoding::kFloat32);
     }
     out << "epoch " << std::setw(3) << epoch << "  train " << std::setprecision(5) << s.train_loss
-        << "  val " << s.validation_loss << " m^2  lr " << learningRate(std::max(epoch, 1)) << "  " << std::setprecision(3) << s.seconds << " s (process CPU "
+        << "  val " << s.validation_loss << " m^2  lr " << learningRate(std::max(epoch, 1)) << "  "
+        << std::setprecision(3) << s.seconds << " s (process CPU "
         << static_cast<double>(std::clock()) / CLOCKS_PER_SEC / 60.0 << " min)";
     return s.validation_loss;
   };
