@@ -8,6 +8,7 @@
 #include "hdvio/core/thread_clock.h"
 #include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
+#include "hdvio/factors/inverse_depth_reprojection_factor.h"
 #include "hdvio/factors/prior_factors.h"
 #include "hdvio/factors/reprojection_factor.h"
 
@@ -140,9 +141,18 @@ NavState VioBackend::latestState() const {
 }
 
 std::optional<Vec3> VioBackend::landmarkPosition(int landmark_id) const {
+  const auto it = tracks_.find(landmark_id);
+  if (it == tracks_.end()) return std::nullopt;
+  return landmarkPosition(landmark_id, it->second);
+}
+
+std::optional<Vec3> VioBackend::landmarkPosition(int landmark_id, const Track& track) const {
   const Values& est = smoother_.estimate();
-  if (!est.exists(L(landmark_id))) return std::nullopt;
-  return est.vec3(L(landmark_id));
+  if (!track.in_graph || !est.exists(L(landmark_id))) return std::nullopt;
+  if (!inverseDepth()) return est.vec3(L(landmark_id));
+  const Vec3 lambda = est.vec3(L(landmark_id));
+  if (!(lambda.z() > 0.0)) return std::nullopt;
+  return inverseDepthWorldPoint(est.pose(X(track.anchor)), T_BC_, lambda);
 }
 
 std::vector<NavState> VioBackend::windowStates() const {
@@ -254,7 +264,7 @@ void VioBackend::addVisualFactors(std::uint64_t k, const FrameObservations& fram
     Track& track = tracks_[f.landmark_id];
     track.obs[k] = f;
     if (track.in_graph) {
-      graph.add(reprojectionFactor(k, f));
+      graph.add(reprojectionFactor(k, f, track));
       ids.push_back(f.landmark_id);
     } else {
       pending.push_back(f.landmark_id);
@@ -290,25 +300,45 @@ bool VioBackend::tryTriangulate(int id, Track* track) {
   const TriangulationResult tri = triangulate(poses, rays);
   if (!tri.valid || tri.max_ray_angle_rad < options_.min_triangulation_angle_deg * M_PI / 180.0)
     return false;
+  return insertLandmark(id, tri.p_W, track);
+}
+
+bool VioBackend::insertLandmark(int id, const Vec3& p_W, Track* track) {
+  if (track->obs.empty()) return false;
+  Values values;
+  if (inverseDepth()) {
+    track->anchor = track->obs.begin()->first;
+    const Vec3 p_Ca = cameraPose(track->anchor).inverse() * p_W;
+    if (!(p_Ca.z() > CameraModel::kMinDepth) || !p_Ca.allFinite()) return false;
+    values.insertVector(L(id), inverseDepthFromAnchorPoint(p_Ca));
+  } else {
+    values.insertVector(L(id), p_W);
+  }
   FactorGraph graph;
   std::vector<std::uint64_t> order;
   for (const auto& [index, o] : track->obs) {
-    graph.add(reprojectionFactor(index, o));
+    graph.add(reprojectionFactor(index, o, *track));
     order.push_back(index);
   }
-  Values values;
-  values.insertVector(L(id), tri.p_W);
   const auto added = smoother_.update(graph, values, {}, /*optimize=*/false);
+  track->factors.clear();
   for (std::size_t n = 0; n < order.size(); ++n) track->factors[order[n]] = added.new_factor_ids[n];
   track->in_graph = true;
   return true;
 }
 
-FactorPtr VioBackend::reprojectionFactor(std::uint64_t index, const FeatureObservation& obs) const {
+FactorPtr VioBackend::reprojectionFactor(std::uint64_t index, const FeatureObservation& obs,
+                                         const Track& track) const {
   const double scale = std::pow(options_.level_sigma_factor, obs.level);
-  return std::make_shared<ReprojectionFactor>(
-      X(index), L(obs.landmark_id), obs.uv, camera_, T_BC_,
-      pixelNoise(options_.pixel_sigma * scale, options_.robust_loss, options_.robust_width_px * scale));
+  NoiseModelPtr noise = pixelNoise(options_.pixel_sigma * scale, options_.robust_loss,
+                                   options_.robust_width_px * scale);
+  if (inverseDepth() && index == track.anchor)
+    return std::make_shared<InverseDepthAnchorFactor>(L(obs.landmark_id), obs.uv, camera_, noise);
+  if (inverseDepth())
+    return std::make_shared<InverseDepthReprojectionFactor>(
+        X(track.anchor), X(index), L(obs.landmark_id), obs.uv, camera_, T_BC_, noise);
+  return std::make_shared<ReprojectionFactor>(X(index), L(obs.landmark_id), obs.uv, camera_, T_BC_,
+                                              noise);
 }
 
 bool VioBackend::isKeyframe(std::uint64_t k) const {
@@ -348,6 +378,9 @@ int VioBackend::rejectOutliers() {
     }
     removed += static_cast<int>(drop.size());
     smoother_.removeFactors(drop);
+    // The other observations are relative to the anchor pose: re-anchor without its own.
+    if (inverseDepth() && track.in_graph && !track.obs.count(track.anchor))
+      reanchor(id, track.anchor, &track);
     if (static_cast<int>(track.factors.size()) < options_.min_observations) {
       dead_landmarks.insert(L(id));
       track.factors.clear();
@@ -373,6 +406,19 @@ void VioBackend::maintainWindow() {
   };
   while (old_keyframes() > options_.num_keyframes)
     marginalizeState(states_.front().index, /*keep_landmark_information=*/true);
+}
+
+void VioBackend::reanchor(int id, std::uint64_t leaving, Track* track) {
+  // The landmark stays and its anchor leaves: restart it from its current world point in its
+  // next observation. Its factors are dropped, not marginalized, as for any staying landmark,
+  // so no prior holds L(id) and it can be removed and inserted again.
+  const std::optional<Vec3> p_W = landmarkPosition(id, *track);
+  track->obs.erase(leaving);
+  smoother_.removeVariables({L(id)});
+  track->factors.clear();
+  track->in_graph = false;
+  if (p_W && static_cast<int>(track->obs.size()) >= options_.min_observations)
+    insertLandmark(id, *p_W, track);
 }
 
 void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_information) {
@@ -411,11 +457,15 @@ void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_inform
       it = tracks_.erase(it);
       continue;
     }
-    track.obs.erase(index);
-    const auto f = track.factors.find(index);
-    if (f != track.factors.end()) {
-      smoother_.removeFactors({f->second});
-      track.factors.erase(f);
+    if (track.in_graph && inverseDepth() && track.anchor == index) {
+      reanchor(it->first, index, &track);
+    } else {
+      track.obs.erase(index);
+      const auto f = track.factors.find(index);
+      if (f != track.factors.end()) {
+        smoother_.removeFactors({f->second});
+        track.factors.erase(f);
+      }
     }
     if (track.in_graph && static_cast<int>(track.factors.size()) < options_.min_observations) {
       dead_landmarks.insert(L(it->first));

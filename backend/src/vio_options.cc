@@ -69,6 +69,8 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   c.readInRange("max_landmarks", &o.max_landmarks, 1, 100000);
   c.readChoice("landmark_marginalization", &o.landmark_marginalization,
                {"all", "keyframes", "untracked"});
+  c.readChoice("landmark_parameterization", &o.landmark_parameterization,
+               {"world_point", "inverse_depth"});
   c.readInRange("max_iterations", &o.max_iterations, 1, 1000);
   c.readInRange("function_tolerance", &o.function_tolerance, 1e-12, 1e-1);
   c.readInRange("initial_trust_region_radius", &o.initial_trust_region_radius, 1e-3, 1e16);

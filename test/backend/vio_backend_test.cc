@@ -84,6 +84,40 @@ TEST(VioBackend, TracksSimulatedFlightFromGroundTruthInit) {
   EXPECT_LT(e.yaw_free_rotation_deg, 1.0);
 }
 
+// Landmarks anchored in their first observation with inverse depth follow the flight as well as
+// world points and keep as many landmarks in the window. With the "untracked" rule a landmark
+// still tracked when its anchor keyframe leaves stays: it must be re-anchored in its next
+// observation, not lost.
+TEST(VioBackend, InverseDepthLandmarksTrackTheFlightAndSurviveTheirAnchor) {
+  const Sequence& seq = flight().sequence;
+  VioRunOptions run;
+  run.init_from_groundtruth = true;
+  run.pixel_noise_sigma = 0.5;
+  const auto meanLandmarks = [](const VioRunOutput& out) {
+    double sum = 0.0;
+    for (const auto& f : out.frames) sum += f.landmarks_in_window;
+    return sum / std::max<std::size_t>(out.frames.size(), 1);
+  };
+  for (const char* rule : {"keyframes", "untracked"}) {
+    VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
+    options.landmark_marginalization = rule;
+    const auto world = runVioOnTracks(seq, options, run);
+    options.landmark_parameterization = "inverse_depth";
+    const auto inverse = runVioOnTracks(seq, options, run);
+    ASSERT_GT(inverse.states.size(), 70u);
+    const Errors e = errorsAgainstTruth(seq, inverse.states);
+    const Errors w = errorsAgainstTruth(seq, world.states);
+    std::printf("%s, inverse depth: position rmse %.4f m (world points %.4f), velocity rmse "
+                "%.4f m/s, max rot %.3f deg, %.1f landmarks per window (world points %.1f)\n",
+                rule, e.position_rmse, w.position_rmse, e.velocity_rmse, e.yaw_free_rotation_deg,
+                meanLandmarks(inverse), meanLandmarks(world));
+    EXPECT_LT(e.position_rmse, 0.05) << rule;
+    EXPECT_LT(e.velocity_rmse, 0.05) << rule;
+    EXPECT_LT(e.yaw_free_rotation_deg, 1.0) << rule;
+    EXPECT_GT(meanLandmarks(inverse), 0.9 * meanLandmarks(world)) << rule;
+  }
+}
+
 // The landmark budget bounds the window (and so the per-frame cost) without losing the
 // trajectory; every processed frame reports its own CPU time.
 TEST(VioBackend, LandmarkBudgetBoundsTheWindow) {

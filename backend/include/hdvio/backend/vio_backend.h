@@ -76,8 +76,10 @@ class VioBackend {
   };
   struct Track {
     std::map<std::uint64_t, FeatureObservation> obs;  // state index -> observation
+    // One reprojection factor per observation in the graph.
     std::map<std::uint64_t, SlidingWindowSmoother::FactorId> factors;
     bool in_graph = false;
+    std::uint64_t anchor = 0;  // inverse_depth: the anchor state, obs.begin() while in the graph
   };
 
   NavState stateAt(std::uint64_t index, Timestamp t) const;
@@ -88,8 +90,16 @@ class VioBackend {
   bool isKeyframe(std::uint64_t index) const;
   void addVisualFactors(std::uint64_t index, const FrameObservations& frame, FrameResult* result);
   bool tryTriangulate(int id, Track* track);
+  // Puts a landmark at p_W into the graph with a factor per observation (inverse depth: anchored
+  // in obs.begin()); false if it is not in front of the anchor.
+  bool insertLandmark(int id, const Vec3& p_W, Track* track);
   // The reprojection factor of one observation, its noise from the observation's pyramid level.
-  FactorPtr reprojectionFactor(std::uint64_t index, const FeatureObservation& obs) const;
+  FactorPtr reprojectionFactor(std::uint64_t index, const FeatureObservation& obs,
+                               const Track& track) const;
+  bool inverseDepth() const { return options_.landmark_parameterization == "inverse_depth"; }
+  std::optional<Vec3> landmarkPosition(int landmark_id, const Track& track) const;
+  // inverse_depth: the anchor of a staying landmark leaves; re-anchor it in its next observation.
+  void reanchor(int id, std::uint64_t leaving, Track* track);
   int rejectOutliers();
   void maintainWindow();
   void marginalizeState(std::uint64_t index, bool keep_landmark_information);

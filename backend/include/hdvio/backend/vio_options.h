@@ -42,6 +42,11 @@ struct VioBackendOptions {
   // the longest tracks enter first. Keeps the per-frame cost bounded in rich scenes.
   int max_landmarks = 150;
   std::string landmark_marginalization = "keyframes";  // all | keyframes | untracked
+  // world_point: a landmark is its xyz in the world (ReprojectionFactor). inverse_depth: the
+  // unit ray of its first observation in the window (the anchor) and 1/distance along it
+  // (InverseDepthReprojectionFactor); when the anchor leaves and the landmark stays, it is
+  // re-anchored in its next observation (docs/backend.md "Landmark parameterization").
+  std::string landmark_parameterization = "world_point";  // world_point | inverse_depth
 
   int max_iterations = 8;
   double function_tolerance = 1e-5;  // relative cost decrease that ends the solve early
