@@ -42,10 +42,11 @@ struct VioBackendOptions {
   // the longest tracks enter first. Keeps the per-frame cost bounded in rich scenes.
   int max_landmarks = 150;
   std::string landmark_marginalization = "keyframes";  // all | keyframes | untracked
-  // world_point: a landmark is its xyz in the world (ReprojectionFactor). inverse_depth: the
-  // unit ray of its first observation in the window (the anchor) and 1/distance along it
-  // (InverseDepthReprojectionFactor); when the anchor leaves and the landmark stays, it is
-  // re-anchored in its next observation (docs/backend.md "Landmark parameterization").
+  // world_point: a landmark is its xyz in the world (ReprojectionFactor). inverse_depth:
+  // (alpha, beta, rho) in the camera of its first observation in the window, the anchor
+  // (InverseDepthReprojectionFactor, InverseDepthAnchorFactor); when the anchor leaves and the
+  // landmark stays, it is re-anchored in its next observation (docs/backend.md "Landmark
+  // parameterization"). Measured not better on the image bench flights, so not the default.
   std::string landmark_parameterization = "world_point";  // world_point | inverse_depth
 
   int max_iterations = 8;
