@@ -61,7 +61,8 @@ DisplacementTrainer::DisplacementTrainer(TcnArchitecture architecture, Displacem
   if (arch_.input_channels != 6) throw std::invalid_argument("the displacement network takes 6 inputs");
 }
 
-torch::Tensor DisplacementTrainer::augment(const DisplacementSet& set, const torch::Tensor& idx) const {
+std::pair<torch::Tensor, torch::Tensor> DisplacementTrainer::augment(const DisplacementSet& set,
+                                                                     const torch::Tensor& idx) const {
   const torch::Tensor x = set.inputs.index_select(0, idx);  // B x 6 x W
   const int64_t b = x.size(0);
   const torch::Tensor R = set.rotations.index_select(0, idx);  // B x W x 3 x 3
@@ -86,7 +87,15 @@ torch::Tensor DisplacementTrainer::augment(const DisplacementSet& set, const tor
     force = torch::matmul(dR, force);
     gyro = torch::matmul(dR, gyro);
   }
-  return torch::cat({force, gyro}, 1);
+  torch::Tensor target = set.targets.index_select(0, idx);  // B x 3
+  if (options_.yaw_augmentation) {
+    const torch::Tensor yaw = torch::rand({b, 1}) * (2.0 * M_PI);
+    const torch::Tensor Rz = expBatch(torch::cat({torch::zeros({b, 2}), yaw}, 1));  // B x 3 x 3
+    force = torch::matmul(Rz, force);
+    gyro = torch::matmul(Rz, gyro);
+    target = torch::matmul(Rz, target.unsqueeze(-1)).squeeze(-1);
+  }
+  return {torch::cat({force, gyro}, 1), target};
 }
 
 torch::Tensor DisplacementTrainer::loss(const torch::Tensor& prediction, const torch::Tensor& target) const {
@@ -107,9 +116,9 @@ Eigen::Vector3d DisplacementTrainer::pass(const DisplacementSet& set, torch::opt
   torch::Tensor sum = torch::zeros({3}, torch::kFloat64);
   for (int64_t start = 0; start < n; start += options_.batch_size) {
     const torch::Tensor idx = order.slice(0, start, std::min<int64_t>(n, start + options_.batch_size));
-    const torch::Tensor x = training ? augment(set, idx) : set.inputs.index_select(0, idx);
+    const auto [x, target] = training ? augment(set, idx)
+                                      : std::pair(set.inputs.index_select(0, idx), set.targets.index_select(0, idx));
     const torch::Tensor out = module_->forwardLast(x).slice(1, 0, 3);  // B x 3
-    const torch::Tensor target = set.targets.index_select(0, idx);
     if (training) {
       const torch::Tensor l = loss(out, target);
       optimizer->zero_grad();
@@ -141,7 +150,8 @@ double DisplacementTrainer::trainingWindowsPerSecond(const std::vector<FlightSam
   const auto step = [&](int i) {
     const int64_t start = (static_cast<int64_t>(i) * options_.batch_size) % (set.size() - options_.batch_size + 1);
     const torch::Tensor idx = order.slice(0, start, start + options_.batch_size);
-    const torch::Tensor l = loss(module_->forwardLast(augment(set, idx)).slice(1, 0, 3), set.targets.index_select(0, idx));
+    const auto [x, target] = augment(set, idx);
+    const torch::Tensor l = loss(module_->forwardLast(x).slice(1, 0, 3), target);
     optimizer.zero_grad();
     l.backward();
     optimizer.step();

@@ -114,15 +114,60 @@ FlightSamples syntheticFlight(double phase) {
   return f;
 }
 
-TEST(DisplacementTorch, TinyRunReducesValidationError) {
+// The same flight flown on a heading turned by `yaw` about the world's vertical: positions,
+// velocities and attitudes turn, body-frame thrust and gyro do not (gravity is vertical).
+FlightSamples turnedFlight(FlightSamples f, double yaw) {
+  const Quat Rz(Eigen::AngleAxisd(yaw, Vec3::UnitZ()));
+  for (std::size_t k = 0; k < f.t.size(); ++k) {
+    f.p_W[k] = Rz * f.p_W[k];
+    f.v_W[k] = Rz * f.v_W[k];
+    f.q_WB[k] = Rz * f.q_WB[k];
+  }
+  return f;
+}
+
+// A 3-layer residual TCN on 20-sample windows (receptive field 15) and the options of a short
+// run on the synthetic flights.
+TcnArchitecture smallTcn() {
   TcnArchitecture a;
   a.residual = true;
   a.window = 20;
-  a.layers = {{16, 4}, {16, 2}, {16, 1}};  // receptive field 15
+  a.layers = {{16, 4}, {16, 2}, {16, 1}};
+  return a;
+}
+
+DisplacementTrainOptions shortRun(double learning_rate) {
   DisplacementTrainOptions o;
   o.stride_samples = 4;
   o.batch_size = 32;
-  o.learning_rate = 3e-3;
+  o.learning_rate = learning_rate;
+  return o;
+}
+
+TEST(DisplacementTorch, YawAugmentationCarriesTheFitToAnotherHeading) {
+  const TcnArchitecture a = smallTcn();
+  DisplacementTrainOptions o = shortRun(3e-3);
+  o.fixed_epochs = 12;
+  // Validation: another phase of the flight, flown 90 deg to the left.
+  const std::vector<FlightSamples> turned{turnedFlight(syntheticFlight(7.0), M_PI / 2)};
+  const auto final_validation = [&](bool yaw_augmentation) {
+    DisplacementTrainOptions r = o;
+    r.yaw_augmentation = yaw_augmentation;
+    torch::manual_seed(1);
+    DisplacementTrainer trainer(a, r);
+    std::ostringstream log;
+    const auto result = trainer.train({syntheticFlight(0.0)}, turned, log);
+    return std::pair(result.history.front().validation_loss, result.history.back().validation_loss);
+  };
+  const auto [plain_first, plain] = final_validation(false);
+  const auto [yaw_first, yaw] = final_validation(true);
+  EXPECT_LT(yaw, 0.3 * yaw_first);
+  EXPECT_LT(yaw, 0.5 * plain) << "plain " << plain_first << " -> " << plain;
+}
+
+TEST(DisplacementTorch, TinyRunReducesValidationError) {
+  const TcnArchitecture a = smallTcn();
+  DisplacementTrainOptions o = shortRun(3e-3);
   o.max_epochs = 8;
   o.patience = 8;
   o.max_minutes = 1.0;
@@ -168,14 +213,8 @@ TEST(DisplacementTorch, FixedEpochRunWithHuberLossKeepsTheLastEpoch) {
 }
 
 TEST(DisplacementTorch, CosineScheduleDependsOnTheEpochOnlyAndReachesTheOptimizer) {
-  TcnArchitecture a;
-  a.residual = true;
-  a.window = 20;
-  a.layers = {{16, 4}, {16, 2}, {16, 1}};
-  DisplacementTrainOptions o;
-  o.stride_samples = 4;
-  o.batch_size = 32;
-  o.learning_rate = 2e-3;
+  const TcnArchitecture a = smallTcn();
+  DisplacementTrainOptions o = shortRun(2e-3);
   o.cosine_schedule_epochs = 4;
   const DisplacementTrainer schedule(a, o);
   EXPECT_DOUBLE_EQ(schedule.learningRate(1), 2e-3);

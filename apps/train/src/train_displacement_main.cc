@@ -68,6 +68,7 @@ learned::DisplacementTrainOptions readTraining(const ConfigReader& t) {
   t.readInRange("orientation_sigma_deg", &o.orientation_sigma_deg, 0.0, 45.0);
   t.readInRange("gyro_bias_range", &o.gyro_bias_range, 0.0, 1.0);
   t.readInRange("accel_bias_range", &o.accel_bias_range, 0.0, 10.0);
+  t.readOptional("yaw_augmentation", &o.yaw_augmentation);
   t.finish();
   return o;
 }
