@@ -57,7 +57,10 @@ DisplacementSet buildDisplacementSet(const std::vector<FlightSamples>& flights, 
 }
 
 DisplacementTrainer::DisplacementTrainer(TcnArchitecture architecture, DisplacementTrainOptions options)
-    : arch_(std::move(architecture)), options_(std::move(options)), module_(arch_) {
+    : arch_(std::move(architecture)), options_(std::move(options)), module_(nullptr) {
+  // The initial weights come from the seed, not from whatever the process drew before.
+  torch::manual_seed(static_cast<uint64_t>(options_.seed));
+  module_ = TcnModule(arch_);
   if (arch_.input_channels != 6) throw std::invalid_argument("the displacement network takes 6 inputs");
 }
 

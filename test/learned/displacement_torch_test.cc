@@ -153,8 +153,7 @@ TEST(DisplacementTorch, YawAugmentationCarriesTheFitToAnotherHeading) {
   const auto final_validation = [&](bool yaw_augmentation) {
     DisplacementTrainOptions r = o;
     r.yaw_augmentation = yaw_augmentation;
-    torch::manual_seed(1);
-    DisplacementTrainer trainer(a, r);
+    DisplacementTrainer trainer(a, r);  // the same initial weights (options.seed)
     std::ostringstream log;
     const auto result = trainer.train({syntheticFlight(0.0)}, turned, log);
     return std::pair(result.history.front().validation_loss, result.history.back().validation_loss);
@@ -163,6 +162,27 @@ TEST(DisplacementTorch, YawAugmentationCarriesTheFitToAnotherHeading) {
   const auto [yaw_first, yaw] = final_validation(true);
   EXPECT_LT(yaw, 0.3 * yaw_first);
   EXPECT_LT(yaw, 0.5 * plain) << "plain " << plain_first << " -> " << plain;
+}
+
+// Two trainings with the same options in one process (the second starting from whatever the
+// first left in torch's generator) end with the same weights: the seed sets the initial weights
+// too, so a training command repeats.
+TEST(DisplacementTorch, SameOptionsTrainTheSameWeights) {
+  DisplacementTrainOptions o = shortRun(3e-3);
+  o.fixed_epochs = 2;
+  const auto outputs = [&](int seed) {
+    DisplacementTrainOptions r = o;
+    r.seed = seed;
+    DisplacementTrainer trainer(smallTcn(), r);
+    std::ostringstream log;
+    trainer.train({syntheticFlight(0.0)}, {}, log);
+    torch::NoGradGuard no_grad;
+    torch::manual_seed(3);
+    return trainer.module()->forwardLast(torch::randn({4, 6, 20}));
+  };
+  const torch::Tensor first = outputs(7);
+  EXPECT_TRUE(torch::equal(first, outputs(7)));
+  EXPECT_GT((first - outputs(8)).abs().max().item<double>(), 1e-4);  // the seed matters
 }
 
 TEST(DisplacementTorch, TinyRunReducesValidationError) {
@@ -229,7 +249,6 @@ TEST(DisplacementTorch, CosineScheduleDependsOnTheEpochOnlyAndReachesTheOptimize
     DisplacementTrainOptions r = o;
     r.fixed_epochs = epochs;
     r.cosine_schedule_epochs = schedule_epochs;
-    torch::manual_seed(1);  // the initial weights
     DisplacementTrainer trainer(a, r);
     std::ostringstream log;
     trainer.train({syntheticFlight(0.0)}, {}, log);
