@@ -69,8 +69,8 @@ YAML
 }
 # The filter's attitude error convention and window biases, by the folds' mean ATE. The defaults
 # (right, estimated: the first of the list) stay unless a setting is at least 1 % better: on the
-# Blackbird folds the four differ by 0.3 %, while retraining the same folds on another machine
-# moved their mean by 7 %.
+# Blackbird folds the four differ by 0.3 %, while four draws of the initial weights of one
+# recipe span 0.130-0.145 m (docs/imo_network.md).
 SETTINGS="right,false left,false right,true left,true"
 for s in $SETTINGS; do run_folds "${s/,/_wb}" ${s%,*} ${s#*,} "$SIGMA"; done | tee "$W/folds_filter.txt"
 mean_ate() { grep "^$1 fold" "$W/folds_filter.txt" | awk '{s += $NF} END {printf "%.4f", s / NR}'; }
