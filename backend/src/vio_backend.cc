@@ -238,9 +238,19 @@ FrameResult VioBackend::addFrame(const FrameObservations& frame) {
   states_.back().keyframe = isKeyframe(k);
   if (states_.back().keyframe) last_keyframe_ = k;
 
-  auto solved = smoother_.optimize();
-  result.outliers_removed = rejectOutliers();
-  if (result.outliers_removed > 0) solved = smoother_.optimize();
+  SlidingWindowSmoother::UpdateResult solved;
+  result.window_solved = options_.window_solve == "every_frame" || states_.back().keyframe;
+  if (result.window_solved) {
+    solved = smoother_.optimize();
+    result.outliers_removed = rejectOutliers();
+    if (result.outliers_removed > 0) solved = smoother_.optimize();
+  } else {
+    // Between keyframes only the new state moves (landmarks and older states held): its
+    // observations stay in the graph for the next window solve, which also rejects outliers.
+    std::set<Key> newest{X(k), V(k), B(k)};
+    if (smoother_.estimate().exists(F(k))) newest.insert(F(k));
+    solved = smoother_.optimizeKeys(newest);
+  }
   result.solver_iterations = solved.iterations;
   result.solve_time_s = solved.solve_time_s;
   const double window_start = threadCpuSeconds();

@@ -71,6 +71,7 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
                {"all", "keyframes", "untracked"});
   c.readChoice("landmark_parameterization", &o.landmark_parameterization,
                {"world_point", "inverse_depth"});
+  c.readChoice("window_solve", &o.window_solve, {"every_frame", "keyframes"});
   c.readInRange("max_iterations", &o.max_iterations, 1, 1000);
   c.readInRange("function_tolerance", &o.function_tolerance, 1e-12, 1e-1);
   c.readInRange("initial_trust_region_radius", &o.initial_trust_region_radius, 1e-3, 1e16);

@@ -118,6 +118,38 @@ TEST(VioBackend, InverseDepthLandmarksTrackTheFlightAndSurviveTheirAnchor) {
   }
 }
 
+// window_solve: keyframes optimizes the window only on keyframes; the frames between move only
+// their own state (motion-only) and must still follow the flight, with fewer window solves.
+TEST(VioBackend, KeyframeWindowSolvesTrackTheFlightWithMotionOnlyFramesBetween) {
+  const Sequence& seq = flight().sequence;
+  VioRunOptions run;
+  run.init_from_groundtruth = true;
+  run.pixel_noise_sigma = 0.5;
+  VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
+  options.window_solve = "keyframes";
+  options.keyframe_parallax_px = 25.0;  // at 12 px nearly every frame of this flight is one
+  const auto out = runVioOnTracks(seq, options, run);
+  ASSERT_GT(out.states.size(), 70u);
+  int window_solves = 0, frames = 0;
+  for (std::size_t i = 1; i < out.frames.size(); ++i) {  // frame 0 is the start, not a solve
+    const FrameResult& f = out.frames[i];
+    if (!f.processed) continue;
+    ++frames;
+    EXPECT_EQ(f.window_solved, f.keyframe);
+    window_solves += f.window_solved ? 1 : 0;
+    if (!f.window_solved) EXPECT_EQ(f.outliers_removed, 0);
+  }
+  const Errors e = errorsAgainstTruth(seq, out.states);
+  std::printf("vio, window solves on keyframes only (%d of %d frames): position rmse %.4f m, "
+              "velocity rmse %.4f m/s, max rot %.3f deg\n", window_solves, frames,
+              e.position_rmse, e.velocity_rmse, e.yaw_free_rotation_deg);
+  EXPECT_LT(window_solves, frames * 3 / 4);
+  EXPECT_GT(window_solves, 0);
+  EXPECT_LT(e.position_rmse, 0.05);
+  EXPECT_LT(e.velocity_rmse, 0.05);
+  EXPECT_LT(e.yaw_free_rotation_deg, 1.0);
+}
+
 // The landmark budget bounds the window (and so the per-frame cost) without losing the
 // trajectory; every processed frame reports its own CPU time.
 TEST(VioBackend, LandmarkBudgetBoundsTheWindow) {

@@ -29,6 +29,7 @@ using ResidualForceSource =
 struct FrameResult {
   bool processed = false;     // false: not enough IMU data yet for this frame
   bool keyframe = false;
+  bool window_solved = false;  // the whole window was optimized (else only the new state)
   int observations_used = 0;  // reprojection factors added for this frame
   int landmarks_in_window = 0;
   int outliers_removed = 0;

@@ -49,6 +49,11 @@ struct VioBackendOptions {
   // parameterization"). Measured not better on the image bench flights, so not the default.
   std::string landmark_parameterization = "world_point";  // world_point | inverse_depth
 
+  // every_frame: each frame optimizes the whole window. keyframes: only keyframes do; a frame
+  // that is not one optimizes its own state against the window held fixed (motion-only, as
+  // SVO's and OKVIS's trackers between keyframes) and its observations join the next solve.
+  std::string window_solve = "every_frame";  // every_frame | keyframes
+
   int max_iterations = 8;
   double function_tolerance = 1e-5;  // relative cost decrease that ends the solve early
   // Levenberg-Marquardt's damping is 1/radius. The first solve starts at
