@@ -68,11 +68,17 @@ Errors errorsAgainstTruth(const Sequence& seq, const std::vector<NavState>& stat
   return e;
 }
 
-TEST(VioBackend, TracksSimulatedFlightFromGroundTruthInit) {
-  const Sequence& seq = flight().sequence;
+// The runs below start from the ground-truth state and see the tracks with 0.5 px noise.
+VioRunOptions truthStartHalfPixelNoise() {
   VioRunOptions run;
   run.init_from_groundtruth = true;
   run.pixel_noise_sigma = 0.5;
+  return run;
+}
+
+TEST(VioBackend, TracksSimulatedFlightFromGroundTruthInit) {
+  const Sequence& seq = flight().sequence;
+  const VioRunOptions run = truthStartHalfPixelNoise();
   const auto out = runVioOnTracks(seq, defaultVioBackendOptions(VioMethod::kVio), run);
   ASSERT_GT(out.states.size(), 70u);
   const Errors e = errorsAgainstTruth(seq, out.states);
@@ -90,9 +96,7 @@ TEST(VioBackend, TracksSimulatedFlightFromGroundTruthInit) {
 // observation, not lost.
 TEST(VioBackend, InverseDepthLandmarksTrackTheFlightAndSurviveTheirAnchor) {
   const Sequence& seq = flight().sequence;
-  VioRunOptions run;
-  run.init_from_groundtruth = true;
-  run.pixel_noise_sigma = 0.5;
+  const VioRunOptions run = truthStartHalfPixelNoise();
   const auto meanLandmarks = [](const VioRunOutput& out) {
     double sum = 0.0;
     for (const auto& f : out.frames) sum += f.landmarks_in_window;
@@ -122,9 +126,7 @@ TEST(VioBackend, InverseDepthLandmarksTrackTheFlightAndSurviveTheirAnchor) {
 // their own state (motion-only) and must still follow the flight, with fewer window solves.
 TEST(VioBackend, KeyframeWindowSolvesTrackTheFlightWithMotionOnlyFramesBetween) {
   const Sequence& seq = flight().sequence;
-  VioRunOptions run;
-  run.init_from_groundtruth = true;
-  run.pixel_noise_sigma = 0.5;
+  const VioRunOptions run = truthStartHalfPixelNoise();
   VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
   options.window_solve = "keyframes";
   options.keyframe_parallax_px = 25.0;  // at 12 px nearly every frame of this flight is one
@@ -154,9 +156,7 @@ TEST(VioBackend, KeyframeWindowSolvesTrackTheFlightWithMotionOnlyFramesBetween) 
 // trajectory; every processed frame reports its own CPU time.
 TEST(VioBackend, LandmarkBudgetBoundsTheWindow) {
   const Sequence& seq = flight().sequence;
-  VioRunOptions run;
-  run.init_from_groundtruth = true;
-  run.pixel_noise_sigma = 0.5;
+  const VioRunOptions run = truthStartHalfPixelNoise();
   VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
   options.max_landmarks = 40;
   const auto out = runVioOnTracks(seq, options, run);
@@ -237,9 +237,7 @@ double forceRmse(const Sequence& seq, const std::vector<NavState>& states) {
 TEST(VioBackend, DynamicsModesEstimateExternalForce) {
   const Sequence& seq = flight().sequence;
   ASSERT_FALSE(seq.forces.empty());
-  VioRunOptions run;
-  run.init_from_groundtruth = true;
-  run.pixel_noise_sigma = 0.5;
+  const VioRunOptions run = truthStartHalfPixelNoise();
   double zero_force_rmse = 0.0;
   {
     std::vector<NavState> zeros = runVioOnTracks(seq, defaultVioBackendOptions(VioMethod::kVio), run).states;
