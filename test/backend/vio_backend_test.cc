@@ -139,7 +139,9 @@ TEST(VioBackend, KeyframeWindowSolvesTrackTheFlightWithMotionOnlyFramesBetween) 
     ++frames;
     EXPECT_EQ(f.window_solved, f.keyframe);
     window_solves += f.window_solved ? 1 : 0;
-    if (!f.window_solved) EXPECT_EQ(f.outliers_removed, 0);
+    if (!f.window_solved) {
+      EXPECT_EQ(f.outliers_removed, 0);
+    }
   }
   const Errors e = errorsAgainstTruth(seq, out.states);
   std::printf("vio, window solves on keyframes only (%d of %d frames): position rmse %.4f m, "
