@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -214,17 +215,33 @@ TEST_F(VisualPipeline, WritesTheTimeOfEveryImage) {
   std::getline(stages, line);
   EXPECT_EQ(line, "stage,total [s],calls,mean [ms],p50 [ms],p90 [ms],max [ms]");
   int timed = 0;
+  double frontend_s = 0.0, parts_s = 0.0;
+  std::set<std::string> parts;
   while (std::getline(stages, line)) {
-    if (line.rfind("frontend,", 0) != 0 && line.rfind("backend,", 0) != 0) continue;
+    const std::string name = line.substr(0, line.find(','));
+    const bool part = name.rfind("frontend/", 0) == 0;
+    if (name != "frontend" && name != "backend" && !part) continue;
     double v[6];
     ASSERT_EQ(std::sscanf(line.c_str() + line.find(',') + 1, "%lf,%lf,%lf,%lf,%lf,%lf", &v[0],
                           &v[1], &v[2], &v[3], &v[4], &v[5]), 6) << line;
     EXPECT_EQ(static_cast<std::size_t>(v[1]), ms.size()) << line;
     EXPECT_LE(v[3], v[4]) << line;  // p50 <= p90 <= max
     EXPECT_LE(v[4], v[5]) << line;
-    ++timed;
+    if (part) {
+      parts.insert(name);
+      parts_s += v[0];
+    } else {
+      ++timed;
+    }
+    if (name == "frontend") frontend_s = v[0];
   }
   EXPECT_EQ(timed, 2);
+  // The frontend's parts: every one listed, each timed inside the frontend's own call.
+  EXPECT_EQ(parts, (std::set<std::string>{"frontend/pyramid", "frontend/alignment",
+                                          "frontend/reprojection", "frontend/optimization",
+                                          "frontend/depth_filter", "frontend/keyframe"}));
+  EXPECT_GT(parts_s, 0.5 * frontend_s);
+  EXPECT_LE(parts_s, frontend_s);
 }
 
 TEST_F(VisualPipeline, MissingImagesAreClearErrors) {

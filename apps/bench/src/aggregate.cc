@@ -35,6 +35,8 @@ std::vector<std::pair<std::string, double>> readStages(const std::string& path) 
   while (std::getline(in, line)) {
     const auto comma = line.find(',');
     if (comma == std::string::npos) continue;
+    // "stage/part" rows break a stage down; the stage's own row already counts their time.
+    if (line.substr(0, comma).find('/') != std::string::npos) continue;
     stages.emplace_back(line.substr(0, comma), std::atof(line.c_str() + comma + 1));
   }
   return stages;

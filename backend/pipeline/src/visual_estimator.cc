@@ -129,6 +129,7 @@ ImageStep VisualEstimator::addImage(Timestamp t, const cv::Mat& pixels) {
   auto t0 = Clock::now();
   const frontend::FrameResult r = fe.track(frontend::ImageFrame{t, pixels}, prior);
   rec.frontend_ms = 1e3 * secondsSince(t0);
+  rec.frontend_stages = r.timing;
   rec.stage = r.stage;
   rec.tracked = r.tracked;
   rec.tracked_features = static_cast<int>(r.observations.size());

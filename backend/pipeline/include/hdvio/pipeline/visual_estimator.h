@@ -46,6 +46,7 @@ struct ImageFrameRecord {
   int tracked_features = 0;
   int frontend_keyframe = 0;     // 1 when the frontend took a keyframe
   double frontend_ms = 0.0;      // wall time of SemiDirectFrontend::track
+  frontend::FrameTiming frontend_stages;  // its parts (wall ms), as the frontend measured them
   double backend_ms = 0.0;       // wall time of the backend step and its feedback to the frontend
   double load_ms = 0.0;          // filled by whoever decoded the image (not the estimator)
 };
