@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "bench_test_helpers.h"
+#include "hdvio/bench/aggregate.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -42,6 +43,23 @@ class BenchApp : public ::testing::Test {
   static fs::path dir_;
 };
 fs::path BenchApp::dir_;
+
+TEST_F(BenchApp, StageTotalsLeaveOutTheFrontendsParts) {
+  // A run on images lists the frontend's parts under it; the runtime counts each second once.
+  const fs::path file = dir_ / "timing_stages.csv";
+  std::ofstream(file) << "stage,total [s],calls,mean [ms],p50 [ms],p90 [ms],max [ms]\n"
+                      << "image_loading,0.5,10,50,,,\n"
+                      << "frontend,2,10,200,150,300,400\n"
+                      << "frontend/alignment,0.75,10,75,70,90,100\n"
+                      << "frontend/depth_filter,1,10,100,90,120,150\n"
+                      << "backend,3,10,300,250,400,500\n";
+  const auto stages = hdvio::bench::readStages(file.string());
+  ASSERT_EQ(stages.size(), 3u);
+  EXPECT_EQ(stages[0].first, "image_loading");
+  EXPECT_EQ(stages[1].first, "frontend");
+  EXPECT_EQ(stages[2].first, "backend");
+  EXPECT_DOUBLE_EQ(stages[0].second + stages[1].second + stages[2].second, 5.5);
+}
 
 TEST_F(BenchApp, BadMatrixIsOneErrorLineAndExitCode2) {
   const fs::path m = dir_ / "bad.yaml";

@@ -27,20 +27,6 @@ std::string estimateName(const RunJob& j) {
   return j.seed ? j.experiment + ".s" + std::to_string(*j.seed) : j.experiment;
 }
 
-std::vector<std::pair<std::string, double>> readStages(const std::string& path) {
-  std::vector<std::pair<std::string, double>> stages;
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header: stage,total [s],calls,mean [ms]
-  while (std::getline(in, line)) {
-    const auto comma = line.find(',');
-    if (comma == std::string::npos) continue;
-    // "stage/part" rows break a stage down; the stage's own row already counts their time.
-    if (line.substr(0, comma).find('/') != std::string::npos) continue;
-    stages.emplace_back(line.substr(0, comma), std::atof(line.c_str() + comma + 1));
-  }
-  return stages;
-}
 
 double readNumber(const std::string& path) {
   std::ifstream in(path);
@@ -151,6 +137,21 @@ std::string peerNotes(const Matrix& matrix, const std::vector<RunMetrics>& runs)
 }
 
 }  // namespace
+
+std::vector<std::pair<std::string, double>> readStages(const std::string& path) {
+  std::vector<std::pair<std::string, double>> stages;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // header: stage,total [s],calls,mean [ms]
+  while (std::getline(in, line)) {
+    const auto comma = line.find(',');
+    if (comma == std::string::npos) continue;
+    // "stage/part" rows break a stage down; the stage's own row already counts their time.
+    if (line.substr(0, comma).find('/') != std::string::npos) continue;
+    stages.emplace_back(line.substr(0, comma), std::atof(line.c_str() + comma + 1));
+  }
+  return stages;
+}
 
 bool readPeerTiming(const std::string& log_path, RunMetrics* m, std::size_t* images) {
   std::ifstream in(log_path);

@@ -37,6 +37,10 @@ struct RunMetrics {
   std::string peer_timing;         // <what>: the word before "ms/image" (what the time counts)
 };
 
+// timing_stages.csv's stages and their total seconds, in file order; "stage/part" rows (a
+// breakdown of a stage, e.g. frontend/alignment) are left out, so the totals add up to the run.
+std::vector<std::pair<std::string, double>> readStages(const std::string& path);
+
 // The peer's timing line in its log (the last line containing "ms/image"); false if none.
 bool readPeerTiming(const std::string& log_path, RunMetrics* m, std::size_t* images);
 
