@@ -27,7 +27,6 @@ std::string estimateName(const RunJob& j) {
   return j.seed ? j.experiment + ".s" + std::to_string(*j.seed) : j.experiment;
 }
 
-
 double readNumber(const std::string& path) {
   std::ifstream in(path);
   double x = NAN;
