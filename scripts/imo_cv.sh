@@ -7,7 +7,7 @@
 #     (innovations.csv -> NIS, ATE): choose the attitude error convention (right / left) and
 #     the network window's biases (the filter's estimate / the initial ones, as the release) by
 #     the mean fold ATE, then calibrate the per-axis sigma so the NIS is ~1 per axis (two
-#     scaling steps);
+#     scaling steps), then choose the chi-square gate of the updates (off, 99.9 %, 99 %);
 #  4. train the final network (<work dir>/final.tcn) on all of the training data with that epoch
 #     count and sigma.
 # Usage (from the repository root, data under ../shared/data):
@@ -15,7 +15,9 @@
 # (default config/learned/imo_cv_blackbird.yaml; with cross_validation_by: flights, as
 # config/learned/imo_cv_dido.yaml, the filter runs on each fold's held-out flights, whole).
 # With IMO_CV_COMPARE=1 it stops after step 3's convention runs (comparing training recipes
-# by their folds' filter ATE at the pooled held-out sigma, before any calibration).
+# by their folds' filter ATE at the pooled held-out sigma, before any calibration); with
+# IMO_CV_SKIP_FINAL=1 after the calibration and the gate's choice (no final network).
+# IMO_CV_UPDATE_RATE sets the filter's update rate in every fold run (default 20 Hz, shipped).
 set -euo pipefail
 B=${1:?build dir}; W=${2:?work dir}; CFG=${3:-config/learned/imo_cv_blackbird.yaml}
 DATA=../shared/data
@@ -35,9 +37,9 @@ SIGMA=$(sed -n 's/^final: .*--output_sigma \(.*\)$/\1/p' "$W/selection.txt")
 # Filter runs with fold k's network at epoch E on what fold k held out: its block of the
 # training flight (the trainer logged the sample range at 100 Hz) or its flights, whole
 # (logged "tests on this flight"): run_folds <tag> <rotation_error> <initial_window_biases>
-# <sigma x,y,z>.
+# <sigma x,y,z> [<mahalanobis_factor>, default -1: no gate].
 run_folds() {
-  local tag=$1 rot=$2 wb=$3 sigma=$4
+  local tag=$1 rot=$2 wb=$3 sigma=$4 gate=${5:--1}
   for ((k = 0; k < FOLDS; ++k)); do
     local j=0
     while read -r path b e; do
@@ -50,17 +52,18 @@ method: imo
 network:
   weights: $(realpath "$W/fold$k/epoch_$E.tcn")
 filter:
-  update_rate_hz: 20
+  update_rate_hz: ${IMO_CV_UPDATE_RATE:-20}
   use_source_covariance: false
   measurement_sigma: [${sigma//,/, }]
   rotation_error: $rot
   initial_window_biases: $wb
+  mahalanobis_factor: $gate
 $( [ "$THRUST" != "0.0" ] && printf 'thrust:\n  coefficient_over_mass: %s\n  axis: [0, 0, 1]' "$THRUST")
 $span
 YAML
       rm -rf "$run"
       "$B/apps/run/hdvio_run" --config "$run.yaml" --dataset "$DATA/$path" --out "$run" > "$run.log" 2>&1
-      echo "$tag fold $k $path ATE posyaw [m]: $(grep -m1 "^| imo |" "$run/evaluation/table.md" | cut -d"|" -f4)"
+      echo "$tag fold $k $path gated out $(sed -n 's/.* applied, \([0-9]*\) gated out.*/\1/p' "$run.log") ATE posyaw [m]: $(grep -m1 "^| imo |" "$run/evaluation/table.md" | cut -d"|" -f4)"
       j=$((j + 1))
     done < <(sed -n -e 's/^\([^ ]*\): fold [0-9]* of [0-9]* tests on samples \[\([0-9]*\), \([0-9]*\)).*/\1 \2 \3/p' \
                     -e 's/^\([^ ]*\): fold [0-9]* of [0-9]* tests on this flight$/\1/p' "$W/fold$k.log")
@@ -91,6 +94,18 @@ for it in 1 2; do
   echo "calibration $it: output_sigma $SIGMA" | tee -a "$W/folds_filter.txt"
 done
 run_folds cal2 $ROT $WB "$SIGMA" | tee -a "$W/folds_filter.txt"
+# The chi-square gate on the displacement updates (reject when NIS > factor * 11.345), at the
+# calibrated sigma, by the folds' mean ATE: off (the release's default, first), 99.9 % (factor
+# 16.266 / 11.345), 99 %; off stays unless a gate is at least 1 % better.
+GATE=-1; GATE_ATE=$(mean_ate cal2)
+for g in 1.4338 1.0; do
+  run_folds "gate$g" $ROT $WB "$SIGMA" $g | tee -a "$W/folds_filter.txt" > /dev/null
+  a=$(mean_ate "gate$g")
+  echo "mahalanobis_factor $g: mean fold ATE $a (off: $(mean_ate cal2))" | tee -a "$W/folds_filter.txt"
+  if awk -v a="$a" -v b="$GATE_ATE" 'BEGIN {exit !(a < 0.99 * b)}'; then GATE=$g; GATE_ATE=$a; fi
+done
+echo "chosen: mahalanobis_factor $GATE (mean fold ATE $GATE_ATE)" | tee -a "$W/folds_filter.txt"
+[ "${IMO_CV_SKIP_FINAL:-0}" = 1 ] && exit 0
 [ -f "$W/final.tcn" ] || nice -n 10 "$B/apps/train/hdvio_train_displacement" --config $CFG --epochs "$E" \
     --output_sigma "$SIGMA" --checkpoint_dir "$W/final" --out "$W/final.tcn" > "$W/final.log" 2>&1
-echo "final network: $W/final.tcn ($E epochs, output_sigma $SIGMA, filter rotation_error $ROT, initial_window_biases $WB)"
+echo "final network: $W/final.tcn ($E epochs, output_sigma $SIGMA, filter rotation_error $ROT, initial_window_biases $WB, mahalanobis_factor $GATE)"

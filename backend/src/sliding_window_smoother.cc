@@ -42,11 +42,11 @@ SlidingWindowSmoother::UpdateResult SlidingWindowSmoother::update(
 SlidingWindowSmoother::UpdateResult SlidingWindowSmoother::optimize() {
   UpdateResult result;
   if (factors_.empty()) return result;
-  Values trial = values_;  // kept only if the solve is usable
   OptimizerOptions optimizer = options_.optimizer;
   const bool warm_start = options_.warm_start_min_radius > 0.0 && options_.warm_start_max_radius > 0.0;
   if (warm_start && trust_region_radius_ > 0.0) optimizer.initial_trust_region_radius = trust_region_radius_;
-  const OptimizeResult solved = hdvio::optimize(factors(), &trial, optimizer);
+  // values_ change only if the solve is usable.
+  const OptimizeResult solved = hdvio::optimize(factors(), &values_, optimizer);
   if (warm_start && !solved.summary.iterations.empty())
     trust_region_radius_ = std::clamp(solved.summary.iterations.back().trust_region_radius,
                                       options_.warm_start_min_radius, options_.warm_start_max_radius);
@@ -54,7 +54,6 @@ SlidingWindowSmoother::UpdateResult SlidingWindowSmoother::optimize() {
   result.iterations = static_cast<int>(solved.summary.iterations.size());
   result.final_cost = solved.summary.final_cost;
   result.solve_time_s = solved.summary.total_time_in_seconds;
-  if (result.usable) values_ = std::move(trial);
   return result;
 }
 

@@ -28,6 +28,7 @@ SmootherOptions smootherOptions(const VioBackendOptions& o) {
                               : o.linear_solver == "sparse_schur" ? ceres::SPARSE_SCHUR
                                                                   : ceres::SPARSE_NORMAL_CHOLESKY;
   if (o.landmarks_first) s.optimizer.eliminate_first = {L(0).letter()};
+  if (o.optimizer == "schur_lm") s.optimizer.optimizer = OptimizerOptions::Optimizer::kSchurLm;
   s.optimizer.function_tolerance = o.function_tolerance;
   s.optimizer.initial_trust_region_radius = o.initial_trust_region_radius;
   if (o.trust_region_warm_start) {

@@ -81,6 +81,7 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
     throw InputError(c.file(), 0,
                      "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +
                          "max_trust_region_radius': must be >= initial_trust_region_radius");
+  c.readChoice("optimizer", &o.optimizer, {"ceres", "schur_lm"});
   c.readChoice("linear_solver", &o.linear_solver,
                {"dense_schur", "sparse_schur", "sparse_normal_cholesky"});
   c.readOptional("landmarks_first", &o.landmarks_first);

@@ -90,6 +90,33 @@ TEST(VioBackend, TracksSimulatedFlightFromGroundTruthInit) {
   EXPECT_LT(e.yaw_free_rotation_deg, 1.0);
 }
 
+// hdvio's own Schur-complement Levenberg-Marquardt (backend.optimizer: schur_lm) in place of
+// ceres::Solve: the same accuracy on the same flight, with world points and with inverse-depth
+// landmarks (three keys per factor, one eliminated), and in the hybrid-dynamics mode.
+TEST(VioBackend, OwnSchurSolverTracksTheFlightAsCeresDoes) {
+  const Sequence& seq = flight().sequence;
+  const VioRunOptions run = truthStartHalfPixelNoise();
+  for (const VioMethod method : {VioMethod::kVio, VioMethod::kVid})
+    for (const char* landmarks : {"world_point", "inverse_depth"}) {
+      VioBackendOptions options = defaultVioBackendOptions(method);
+      options.landmark_parameterization = landmarks;
+      const auto ceres_out = runVioOnTracks(seq, options, run);
+      options.optimizer = "schur_lm";
+      const auto own = runVioOnTracks(seq, options, run);
+      ASSERT_EQ(own.states.size(), ceres_out.states.size());
+      const Errors e = errorsAgainstTruth(seq, own.states);
+      const Errors c = errorsAgainstTruth(seq, ceres_out.states);
+      std::printf("%s, schur_lm: position rmse %.4f m (ceres %.4f), velocity rmse %.4f m/s (ceres "
+                  "%.4f), %.2f vs %.2f ms/frame\n", landmarks, e.position_rmse, c.position_rmse,
+                  e.velocity_rmse, c.velocity_rmse, 1e3 * own.backend_time_s / own.states.size(),
+                  1e3 * ceres_out.backend_time_s / ceres_out.states.size());
+      EXPECT_LT(e.position_rmse, 0.05) << landmarks;
+      EXPECT_LT(e.velocity_rmse, 0.05) << landmarks;
+      EXPECT_LT(e.yaw_free_rotation_deg, 1.0) << landmarks;
+      EXPECT_LT(e.position_rmse, 1.25 * c.position_rmse + 0.005) << landmarks;
+    }
+}
+
 // Landmarks anchored in their first observation with inverse depth follow the flight as well as
 // world points and keep as many landmarks in the window. With the "untracked" rule a landmark
 // still tracked when its anchor keyframe leaves stays: it must be re-anchored in its next

@@ -64,6 +64,10 @@ struct VioBackendOptions {
   double initial_trust_region_radius = 1e4;
   double max_trust_region_radius = 1e8;
   bool trust_region_warm_start = true;
+  // ceres: ceres::Solve with linear_solver below. schur_lm: hdvio's own Levenberg-Marquardt with
+  // the same damping rules, landmarks Schur-complemented out (core/schur_lm.h; no per-solve
+  // problem build); linear_solver is then not used.
+  std::string optimizer = "ceres";
   // Landmarks are eliminated first (Schur complement) unless sparse_normal_cholesky is chosen.
   std::string linear_solver = "dense_schur";  // dense_schur | sparse_schur | sparse_normal_cholesky
   // Schur solvers eliminate exactly the landmarks (fixed 2x3x6 blocks, Ceres' specialized

@@ -11,6 +11,10 @@
 namespace hdvio {
 
 struct OptimizerOptions {
+  // kCeres: ceres::Solve. kSchurLm: hdvio's own Levenberg-Marquardt with the eliminate_first
+  // variables Schur-complemented out (schur_lm.h); linear_solver is then not used.
+  enum class Optimizer { kCeres, kSchurLm };
+  Optimizer optimizer = Optimizer::kCeres;
   int max_iterations = 50;
   double max_time_s = 1e6;
   int threads = 1;
@@ -40,7 +44,8 @@ void addToProblem(const FactorGraph& graph, Values* values, const std::set<Key>&
                   ceres::Problem* problem);
 ceres::Problem::Options problemOptions();
 
-// Optimizes values in place (verbose: prints Ceres' full report too).
+// Optimizes values in place; when the solve is not usable they are left as they were (verbose:
+// prints Ceres' full report too).
 OptimizeResult optimize(const FactorGraph& graph, Values* values, const OptimizerOptions& options);
 
 }  // namespace hdvio
