@@ -1,5 +1,7 @@
 #include "hdvio/core/schur_lm.h"
 
+#include "hdvio/core/block_sparse_cholesky.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -79,6 +81,28 @@ void subtractProduct(Eigen::MatrixXd* S, int i, int j, int rows, int cols, int e
   S->block(i, j, rows, cols).noalias() -= v.lazyProduct(w.transpose());
 }
 
+// out (ta x tc, at out_ptr with outer stride ld, column-major) += Ja^T Jc, Ja (dim x ta) and Jc
+// (dim x tc) row-major; fixed sizes for a reprojection's 2 rows and 3- or 6-wide blocks.
+template <int D, int TA, int TC>
+void addJtJFixed(double* out, int ld, const double* Ja, const double* Jc) {
+  Eigen::Map<const Eigen::Matrix<double, D, TA, Eigen::RowMajor>> a(Ja);
+  Eigen::Map<const Eigen::Matrix<double, D, TC, Eigen::RowMajor>> c(Jc);
+  Eigen::Map<Eigen::Matrix<double, TA, TC>, 0, Eigen::OuterStride<>> o(out, Eigen::OuterStride<>(ld));
+  o.noalias() += a.transpose().lazyProduct(c);
+}
+
+void addJtJ(double* out, int ld, int dim, int ta, int tc, const double* Ja, const double* Jc) {
+  if (dim == 2) {
+    if (ta == 6 && tc == 6) return addJtJFixed<2, 6, 6>(out, ld, Ja, Jc);
+    if (ta == 6 && tc == 3) return addJtJFixed<2, 6, 3>(out, ld, Ja, Jc);
+    if (ta == 3 && tc == 3) return addJtJFixed<2, 3, 3>(out, ld, Ja, Jc);
+    if (ta == 3 && tc == 6) return addJtJFixed<2, 3, 6>(out, ld, Ja, Jc);
+  }
+  const ConstRowMap a(Ja, dim, ta), c(Jc, dim, tc);
+  Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>> o(out, ta, tc, Eigen::OuterStride<>(ld));
+  o.noalias() += a.transpose().lazyProduct(c);
+}
+
 // Ceres' Corrector (internal/ceres/corrector.cc): the robust loss as a rescaled residual and
 // Jacobian, with the second-order term when rho'' > 0.
 void applyLoss(const ceres::LossFunction& loss, int dim, double* r, double* const* J,
@@ -119,6 +143,7 @@ class SchurLm {
  private:
   bool evaluate(const std::vector<double>& x, bool jacobians, double* cost);
   void buildNormalEquations();
+  void addDenseSlot(const Slot& slot);
   bool solveStep(double radius);
   double modelCostChange() const;
   void stepFrom(const std::vector<double>& x, std::vector<double>* out) const;
@@ -129,7 +154,9 @@ class SchurLm {
   std::vector<EliminatedBlock> elim_;
   std::vector<double> x_, candidate_, r_, J_, W_, V_;  // V = W (H_e + damping)^-1, as W
   int num_reduced_ = 0, num_step_ = 0;
-  Eigen::MatrixXd H_rr_, S_;
+  Eigen::MatrixXd H_rr_, S_, dense_J_, dense_G_;
+  std::vector<int> block_offsets_, block_sizes_;  // the reduced variables in the step
+  BlockSparseCholesky cholesky_;
   Eigen::VectorXd g_r_, diagonal_, dx_;
 };
 
@@ -179,6 +206,8 @@ SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const Optimizer
   for (Variable& v : vars_)
     if (v.role == Role::kReduced) {
       v.dx_offset = num_step_;
+      block_offsets_.push_back(num_step_);
+      block_sizes_.push_back(v.tangent);
       num_step_ += v.tangent;
     }
   num_reduced_ = num_step_;
@@ -273,6 +302,10 @@ void SchurLm::buildNormalEquations() {
     b.g.setZero();
   }
   for (const Slot& slot : slots_) {
+    if (slot.dim > 8 && slot.eliminated_pos < 0) {  // a prior or an inertial factor: one GEMM
+      addDenseSlot(slot);
+      continue;
+    }
     const ConstVecMap r(r_.data() + slot.r_offset, slot.dim);
     for (std::size_t a = 0; a < slot.vars.size(); ++a) {
       const Variable& va = vars_[slot.vars[a]];
@@ -280,7 +313,7 @@ void SchurLm::buildNormalEquations() {
       const ConstRowMap Ja(J_.data() + slot.j_offset[a], slot.dim, va.tangent);
       if (va.role == Role::kEliminated) {
         EliminatedBlock& b = elim_[va.eliminated];
-        b.H.noalias() += Ja.transpose().lazyProduct(Ja);
+        addJtJ(b.H.data(), va.tangent, slot.dim, va.tangent, va.tangent, Ja.data(), Ja.data());
         b.g.noalias() += Ja.transpose().lazyProduct(r);
         continue;
       }
@@ -290,10 +323,13 @@ void SchurLm::buildNormalEquations() {
         if (vc.role == Role::kConstant) continue;
         const ConstRowMap Jc(J_.data() + slot.j_offset[c], slot.dim, vc.tangent);
         if (vc.role == Role::kEliminated) {
-          RowMap(W_.data() + slot.w_offset[a], va.tangent, vc.tangent).noalias() = Ja.transpose().lazyProduct(Jc);
+          // W is row-major (ta x tc): as a column-major (tc x ta) block it is Jc^T Ja.
+          double* w = W_.data() + slot.w_offset[a];
+          std::fill_n(w, va.tangent * vc.tangent, 0.0);
+          addJtJ(w, vc.tangent, slot.dim, vc.tangent, va.tangent, Jc.data(), Ja.data());
         } else if (va.dx_offset <= vc.dx_offset) {
-          H_rr_.block(va.dx_offset, vc.dx_offset, va.tangent, vc.tangent).noalias() +=
-              Ja.transpose().lazyProduct(Jc);
+          addJtJ(H_rr_.data() + va.dx_offset + static_cast<std::ptrdiff_t>(vc.dx_offset) * num_reduced_,
+                 num_reduced_, slot.dim, va.tangent, vc.tangent, Ja.data(), Jc.data());
         }
       }
     }
@@ -307,6 +343,38 @@ void SchurLm::buildNormalEquations() {
       diagonal_.segment(v.dx_offset, v.tangent) = elim_[v.eliminated].H.diagonal();
   }
   diagonal_ = diagonal_.cwiseMax(kMinDiagonal).cwiseMin(kMaxDiagonal);
+}
+
+// J^T J and J^T r of a tall factor as one product of its stacked Jacobian, scattered into the
+// reduced system (the marginalization prior has ~100 rows and ~15 keys: block by block the
+// products would not vectorize).
+void SchurLm::addDenseSlot(const Slot& slot) {
+  std::vector<int> cols;
+  int total = 0;
+  for (std::size_t a = 0; a < slot.vars.size(); ++a) {
+    cols.push_back(total);
+    if (vars_[slot.vars[a]].role == Role::kReduced) total += vars_[slot.vars[a]].tangent;
+  }
+  dense_J_.resize(slot.dim, total);
+  for (std::size_t a = 0; a < slot.vars.size(); ++a) {
+    const Variable& v = vars_[slot.vars[a]];
+    if (v.role != Role::kReduced) continue;
+    dense_J_.middleCols(cols[a], v.tangent) = ConstRowMap(J_.data() + slot.j_offset[a], slot.dim, v.tangent);
+  }
+  dense_G_.resize(total, total);
+  dense_G_.noalias() = dense_J_.transpose() * dense_J_;
+  const Eigen::VectorXd gr = dense_J_.transpose() * ConstVecMap(r_.data() + slot.r_offset, slot.dim);
+  for (std::size_t a = 0; a < slot.vars.size(); ++a) {
+    const Variable& va = vars_[slot.vars[a]];
+    if (va.role != Role::kReduced) continue;
+    g_r_.segment(va.dx_offset, va.tangent) += gr.segment(cols[a], va.tangent);
+    for (std::size_t c = 0; c < slot.vars.size(); ++c) {
+      const Variable& vc = vars_[slot.vars[c]];
+      if (vc.role != Role::kReduced || va.dx_offset > vc.dx_offset) continue;
+      H_rr_.block(va.dx_offset, vc.dx_offset, va.tangent, vc.tangent) +=
+          dense_G_.block(cols[a], cols[c], va.tangent, vc.tangent);
+    }
+  }
 }
 
 // (J^T J + diag / radius) dx = -J^T r with the eliminated variables Schur-complemented out.
@@ -351,9 +419,9 @@ bool SchurLm::solveStep(double radius) {
       }
     }
   }
-  const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(S_);
-  if (llt.info() != Eigen::Success) return false;
-  dx_.head(num_reduced_) = llt.solve(rhs);
+  if (!cholesky_.factorize(&S_, block_offsets_, block_sizes_)) return false;
+  cholesky_.solve(&rhs);
+  dx_.head(num_reduced_) = rhs;
   for (const EliminatedBlock& b : elim_) {
     const Variable& e = vars_[b.var];
     Eigen::VectorXd t = -b.g;
