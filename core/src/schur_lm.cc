@@ -529,16 +529,13 @@ OptimizeResult SchurLm::run() {
     invalid = 0;
     it.step_norm = dx_.norm();
     it.cost_change = cost - candidate_cost;
+    // As Ceres, a solve that ends on a tolerance does not record that last iteration.
     if (it.step_norm <= kParameterTolerance * (x_norm() + kParameterTolerance)) {
-      it.trust_region_radius = radius;
-      summary.iterations.push_back(it);
       summary.termination_type = ceres::CONVERGENCE;
       summary.message = "parameter tolerance reached";
       break;
     }
     if (std::abs(it.cost_change) <= options_.function_tolerance * cost) {
-      it.trust_region_radius = radius;
-      summary.iterations.push_back(it);
       summary.termination_type = ceres::CONVERGENCE;
       summary.message = "function tolerance reached";
       break;
