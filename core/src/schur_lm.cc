@@ -509,21 +509,24 @@ OptimizeResult SchurLm::run() {
       stepFrom(x_, &candidate_);
       valid = evaluate(candidate_, false, &candidate_cost);
     }
+    // A rejected or invalid step shrinks the trust region (Ceres' StepRejected); true: stop.
+    const auto reject = [&] {
+      radius /= decrease_factor;
+      decrease_factor *= 2.0;
+      it.trust_region_radius = radius;
+      summary.iterations.push_back(it);
+      if (radius >= kMinRadius) return false;
+      summary.termination_type = ceres::CONVERGENCE;
+      summary.message = "trust region radius below its minimum";
+      return true;
+    };
     if (!valid) {
       if (++invalid > kMaxConsecutiveInvalidSteps) {
         summary.termination_type = ceres::FAILURE;
         summary.message = "too many consecutive invalid steps";
         break;
       }
-      radius /= decrease_factor;
-      decrease_factor *= 2.0;
-      it.trust_region_radius = radius;
-      summary.iterations.push_back(it);
-      if (radius < kMinRadius) {
-        summary.termination_type = ceres::CONVERGENCE;
-        summary.message = "trust region radius below its minimum";
-        break;
-      }
+      if (reject()) break;
       continue;
     }
     invalid = 0;
@@ -565,16 +568,8 @@ OptimizeResult SchurLm::run() {
         summary.message = "gradient tolerance reached";
         break;
       }
-    } else {
-      radius /= decrease_factor;
-      decrease_factor *= 2.0;
-      it.trust_region_radius = radius;
-      summary.iterations.push_back(it);
-      if (radius < kMinRadius) {
-        summary.termination_type = ceres::CONVERGENCE;
-        summary.message = "trust region radius below its minimum";
-        break;
-      }
+    } else if (reject()) {
+      break;
     }
   }
   summary.final_cost = cost;

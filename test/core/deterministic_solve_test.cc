@@ -11,42 +11,14 @@
 #include <vector>
 
 #include "between_pose_factor.h"
+#include "point_in_body_factor.h"
 #include "hdvio/core/ceres_bridge.h"
 
 namespace hdvio {
 namespace {
 using symbols::L;
 using symbols::X;
-
-// The landmark in the body frame of the pose: r = R^T (l - p) - z.
-class PointInBodyFactor : public FactorT<PointInBodyFactor, 3, PoseVar, Vec3Var> {
- public:
-  PointInBodyFactor(Key pose, Key landmark, const Vec3& z, NoiseModelPtr noise)
-      : FactorT({pose, landmark}, std::move(noise)), z_(z) {}
-  bool evaluateError(const double* const* x, double* residual, double** J) const {
-    const Eigen::Map<const Vec3> p(x[0]), l(x[1]);
-    const Mat3 R = Eigen::Map<const Quat>(x[0] + 3).toRotationMatrix();
-    const Vec3 b = R.transpose() * (l - p);
-    Eigen::Map<Vec3> r(residual);
-    r = b - z_;
-    if (!J) return true;
-    using J36 = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;
-    using J33 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-    if (J[0]) {
-      Eigen::Map<J36> Jx(J[0]);
-      Jx.leftCols<3>() = -R.transpose();
-      Jx.rightCols<3>() = hat(b);
-    }
-    if (J[1]) {
-      Eigen::Map<J33> Jl(J[1]);
-      Jl = R.transpose();
-    }
-    return true;
-  }
-
- private:
-  Vec3 z_;
-};
+using testing::PointInBodyFactor;
 
 struct Problem {
   FactorGraph graph;
