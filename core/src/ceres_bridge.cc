@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -78,9 +79,18 @@ void addFactorsOnBlocks(const FactorGraph& graph, const std::set<Key>& constant_
   std::vector<double*> blocks;
   for (const auto& factor : graph) {
     blocks.clear();
-    for (Key k : factor->keys()) {
+    const std::vector<int32_t>& sizes = factor->costFunction()->parameter_block_sizes();
+    const std::vector<Key>& keys = factor->keys();
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      const Key k = keys[i];
       KeyOrderedBlocks::Block* b = kb->find(k);
       if (!b) throw std::logic_error("addToProblem: factor refers to missing variable " + k.str());
+      // What Ceres' safety checks (off below) would catch: a size mismatch, a repeated key.
+      if (i >= sizes.size() || sizes[i] != b->dim)
+        throw std::logic_error("addToProblem: block size of " + k.str() + " does not match its factor");
+      for (std::size_t j = 0; j < i; ++j)
+        if (keys[j].value() == k.value())
+          throw std::logic_error("addToProblem: a factor lists " + k.str() + " twice");
       double* block = kb->data(*b);
       if (!b->added) {
         b->added = true;
@@ -145,7 +155,7 @@ OptimizeResult optimize(const FactorGraph& graph, Values* values,
   if (options.optimizer == OptimizerOptions::Optimizer::kSchurLm)
     return optimizeSchurLm(graph, values, options);
   ceres::Problem::Options problem_options = problemOptions();
-  problem_options.disable_all_safety_checks = true;  // the blocks above are distinct by construction
+  problem_options.disable_all_safety_checks = true;  // addFactorsOnBlocks checks what they would
   ceres::Problem problem(problem_options);
   KeyOrderedBlocks blocks(*values);
   addFactorsOnBlocks(graph, options.constant_keys, &blocks, &problem);

@@ -114,5 +114,20 @@ TEST(DeterministicSolve, ResultDoesNotDependOnVariableAddresses) {
   }
 }
 
+// The bridge builds problems with Ceres' safety checks off; what they would catch it checks.
+TEST(DeterministicSolve, AFactorListingAKeyTwiceIsAnError) {
+  const Problem pb = makeProblem();
+  std::vector<std::size_t> order(pb.keys.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::vector<std::unique_ptr<char[]>> spacers;
+  Values v = valuesInOrder(pb, order, &spacers);
+  FactorGraph graph = pb.graph;
+  graph.add(std::make_shared<testing::BetweenPoseFactor>(X(1), X(1), Pose(), NoiseModel::isotropic(6, 1.0)));
+  OptimizerOptions options;
+  options.linear_solver = ceres::DENSE_SCHUR;
+  options.eliminate_first = {'l'};
+  EXPECT_THROW(optimize(graph, &v, options), std::logic_error);
+}
+
 }  // namespace
 }  // namespace hdvio
