@@ -152,7 +152,7 @@ class SchurLm {
   std::vector<Variable> vars_;
   std::vector<Slot> slots_;
   std::vector<EliminatedBlock> elim_;
-  std::vector<double> x_, candidate_, r_, J_, W_, V_;  // V = W (H_e + damping)^-1, as W
+  std::vector<double> x_, candidate_, r_, r_trial_, J_, W_, V_;  // V = W (H_e + damping)^-1, as W
   int num_reduced_ = 0, num_step_ = 0;
   Eigen::MatrixXd H_rr_, S_, dense_J_, dense_G_;
   std::vector<int> block_offsets_, block_sizes_;  // the reduced variables in the step
@@ -202,6 +202,7 @@ SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const Optimizer
     }
   }
   r_.resize(r_size);
+  r_trial_.resize(r_size);
   // Step layout: reduced variables (key order), then the eliminated ones (key order).
   for (Variable& v : vars_)
     if (v.role == Role::kReduced) {
@@ -280,7 +281,9 @@ bool SchurLm::evaluate(const std::vector<double>& x, bool jacobians, double* cos
       cols[p] = v.tangent;
       if (jacobians && v.role != Role::kConstant) jac[p] = J_.data() + slot.j_offset[p];
     }
-    double* r = r_.data() + slot.r_offset;
+    // A cost-only evaluation (a candidate point) must not overwrite the residuals at x, which
+    // the model cost change of the next step uses.
+    double* r = (jacobians ? r_.data() : r_trial_.data()) + slot.r_offset;
     if (!slot.factor->evaluateTangent(params.data(), manifolds.data(), r, jacobians ? jac.data() : nullptr))
       return false;
     if (const ceres::LossFunction* loss = slot.factor->loss()) {
@@ -496,7 +499,7 @@ OptimizeResult SchurLm::run() {
   };
   summary.termination_type = ceres::NO_CONVERGENCE;
   summary.message = "maximum number of iterations reached";
-  int invalid = 0;
+  int invalid = 0, successful_steps = 0;
   for (int iteration = 1; iteration <= options_.max_iterations; ++iteration) {
     ceres::IterationSummary it;
     it.iteration = iteration;
@@ -504,11 +507,6 @@ OptimizeResult SchurLm::run() {
     bool valid = solveStep(radius);
     const double model_change = valid ? modelCostChange() : 0.0;
     valid = valid && model_change > 0.0;
-    double candidate_cost = 0.0;
-    if (valid) {
-      stepFrom(x_, &candidate_);
-      valid = evaluate(candidate_, false, &candidate_cost);
-    }
     // A rejected or invalid step shrinks the trust region (Ceres' StepRejected); true: stop.
     const auto reject = [&] {
       radius /= decrease_factor;
@@ -530,10 +528,16 @@ OptimizeResult SchurLm::run() {
       continue;
     }
     invalid = 0;
+    // A candidate whose cost cannot be evaluated (a landmark behind the camera, say) is an
+    // unsuccessful step, as in Ceres, not an invalid one.
+    stepFrom(x_, &candidate_);
+    double candidate_cost = 0.0;
+    if (!evaluate(candidate_, false, &candidate_cost)) candidate_cost = std::numeric_limits<double>::max();
     it.step_norm = dx_.norm();
     it.cost_change = cost - candidate_cost;
-    // As Ceres, a solve that ends on a tolerance does not record that last iteration.
-    if (it.step_norm <= kParameterTolerance * (x_norm() + kParameterTolerance)) {
+    // As Ceres, a solve that ends on a tolerance does not record that last iteration, and the
+    // parameter tolerance applies only once a step was taken (Ceres' x_norm_ is -1 before).
+    if (successful_steps > 0 && it.step_norm <= kParameterTolerance * (x_norm() + kParameterTolerance)) {
       summary.termination_type = ceres::CONVERGENCE;
       summary.message = "parameter tolerance reached";
       break;
@@ -546,6 +550,7 @@ OptimizeResult SchurLm::run() {
     const double relative_decrease = it.cost_change / model_change;
     it.relative_decrease = relative_decrease;
     if (relative_decrease > kMinRelativeDecrease) {
+      ++successful_steps;
       x_.swap(candidate_);
       if (!evaluate(x_, true, &cost)) {  // cannot happen after a finite cost, but be safe
         summary.termination_type = ceres::FAILURE;
