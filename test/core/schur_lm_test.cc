@@ -139,6 +139,45 @@ TEST(SchurLm, TangentJacobiansEqualTheAmbientPath) {
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(J1[i], B1[i], 1e-12);
 }
 
+// r = x - 10 on a 3-vector whose evaluation fails beyond |x_i| = 3 (a landmark that would move
+// behind the camera): steps that land there are unsuccessful, the radius shrinks and the solve
+// goes on, as in Ceres, instead of ending as FAILURE after a few of them.
+class FailsBeyondFactor : public FactorT<FailsBeyondFactor, 3, Vec3Var> {
+ public:
+  FailsBeyondFactor(Key k, NoiseModelPtr noise) : FactorT({k}, std::move(noise)) {}
+  bool evaluateError(const double* const* x, double* residual, double** J) const {
+    const Eigen::Map<const Vec3> v(x[0]);
+    if (v.cwiseAbs().maxCoeff() > 3.0) return false;
+    Eigen::Map<Vec3> r(residual);
+    r = v - Vec3::Constant(10.0);
+    if (J && J[0]) {
+      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Jx(J[0]);
+      Jx.setIdentity();
+    }
+    return true;
+  }
+};
+
+TEST(SchurLm, AStepThatCannotBeEvaluatedIsRejectedNotFatal) {
+  FactorGraph graph;
+  graph.add(std::make_shared<FailsBeyondFactor>(L(0), NoiseModel::isotropic(3, 1.0)));
+  Values start;
+  start.insertVector(L(0), Vec3::Zero());
+  OptimizerOptions o = converging(OptimizerOptions::Optimizer::kSchurLm);
+  o.eliminate_first.clear();
+  o.max_iterations = 30;
+  o.initial_trust_region_radius = 1e8;  // the first steps jump to 10, beyond the boundary
+  Values ours = start, ceres_result = start;
+  const OptimizeResult ro = optimize(graph, &ours, o);
+  o.optimizer = OptimizerOptions::Optimizer::kCeres;
+  const OptimizeResult rc = optimize(graph, &ceres_result, o);
+  ASSERT_TRUE(rc.usable) << rc.summary.FullReport();
+  ASSERT_TRUE(ro.usable) << ro.summary.message;
+  EXPECT_GT(ours.vec3(L(0)).minCoeff(), 2.0);  // it moved towards the minimum, up to the edge
+  EXPECT_NEAR(ro.summary.final_cost, rc.summary.final_cost, 1e-6 * rc.summary.final_cost);
+  EXPECT_EQ(ro.summary.iterations.size(), rc.summary.iterations.size());
+}
+
 TEST(SchurLm, AFactorOnTwoEliminatedVariablesIsAnError) {
   Problem pb = makeProblem(false);
   pb.graph.add(std::make_shared<testing::BetweenPoseFactor>(X(0), X(1), Pose(), NoiseModel::isotropic(6, 1.0)));
