@@ -4,7 +4,9 @@
 // variable, the rest is solved as one dense system. Same damping and trust-region rules as
 // Ceres' LEVENBERG_MARQUARDT with DENSE_SCHUR, so it is a drop-in for that solver
 // (OptimizerOptions::optimizer = kSchurLm); what it saves is Ceres' per-solve problem build and
-// preprocessing and its ambient-space Jacobians (factors give tangent Jacobians directly).
+// preprocessing, its ambient-space Jacobians (factors give tangent Jacobians directly) and the
+// dense Cholesky of the reduced system (block-sparse here). options.max_time_s and
+// linear_solver are not used: nothing in a solve depends on the clock.
 #include "hdvio/core/ceres_bridge.h"
 
 namespace hdvio {
