@@ -23,4 +23,26 @@ NavState groundTruthState(const Sequence& seq, Timestamp t) {
   return s;
 }
 
+namespace {
+// Drops the samples after `end`; the streams are sorted by time (the readers check it).
+template <typename Sample>
+void cutAfter(std::vector<Sample>* samples, Timestamp end) {
+  samples->erase(std::upper_bound(samples->begin(), samples->end(), end,
+                                  [](Timestamp tt, const Sample& s) { return tt < s.t; }),
+                 samples->end());
+}
+}  // namespace
+
+Sequence sequenceUntil(const Sequence& seq, Timestamp end) {
+  Sequence cut = seq;
+  cutAfter(&cut.imu, end);
+  cutAfter(&cut.thrust, end);
+  cutAfter(&cut.rotor, end);
+  cutAfter(&cut.images, end);
+  cutAfter(&cut.groundtruth, end);
+  cutAfter(&cut.forces, end);
+  cutAfter(&cut.landmark_observations, end);
+  return cut;
+}
+
 }  // namespace hdvio

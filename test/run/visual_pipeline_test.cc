@@ -244,6 +244,35 @@ TEST_F(VisualPipeline, WritesTheTimeOfEveryImage) {
   EXPECT_LE(parts_s, frontend_s);
 }
 
+// run.duration_s runs the flight's first seconds only. The estimator is causal, so the cut run's
+// trajectory must be the whole run's first lines byte for byte, ending at the cut.
+TEST_F(VisualPipeline, RunDurationIsTheWholeRunsPrefix) {
+  const auto run = [&](const std::string& tag, const std::string& extra) {
+    const fs::path cfg = dir_ / (tag + ".yaml");
+    std::ofstream(cfg) << "method: vio\nrun: {init_from_groundtruth: true" << extra
+                       << "}\nfrontend:\n  source: images\n  detector: {cell_size: 16}\n";
+    const fs::path out = dir_ / tag;
+    const Outcome o = runTool("--config " + cfg.string() + " --dataset " +
+                              (dir_ / "seq").string() + " --out " + out.string() +
+                              " --evaluate=false");
+    EXPECT_EQ(o.exit_code, 0) << o.output;
+    std::vector<std::string> lines;
+    std::ifstream in(out / "stamped_traj_estimate.txt");
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+  };
+  const std::vector<std::string> whole = run("whole", "");
+  const std::vector<std::string> cut = run("cut", ", duration_s: 1.5");
+  const double first = toSeconds(sequence_->images.front().t);
+  ASSERT_GT(cut.size(), 10u);
+  ASSERT_LT(cut.size() + 10, whole.size());
+  for (std::size_t i = 0; i < cut.size(); ++i) ASSERT_EQ(cut[i], whole[i]) << "line " << i;
+  const double last = std::stod(cut.back());
+  EXPECT_LE(last, first + 1.5 + 1e-9);
+  EXPECT_GT(last, first + 1.5 - 1.0 / sequence_->camera->rate_hz - 1e-9);
+  EXPECT_GT(std::stod(whole[cut.size()]), first + 1.5);
+}
+
 TEST_F(VisualPipeline, MissingImagesAreClearErrors) {
   const fs::path copy = dir_ / "missing_image";
   fs::copy(dir_ / "seq", copy, fs::copy_options::recursive);

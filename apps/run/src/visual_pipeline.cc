@@ -38,6 +38,9 @@ class VisualPipeline : public MethodPipeline {
     int seed = static_cast<int>(run_.seed);
     r.readInRange("seed", &seed, 0, 1 << 30);
     run_.seed = static_cast<std::uint32_t>(seed);
+    // Only the first seconds of the flight (from its first image; without images, its first
+    // IMU sample): profiles and quick checks. 0 = the whole flight.
+    r.readInRange("duration_s", &duration_s_, 0.0, 1e6);
     r.finish();
     frontend_ = loadVisualFrontendConfig(cfg.optionalSection("frontend"));
     // hdvio: the learned residual force (residual_force: {type: tcn, weights: ...}); zero if
@@ -63,6 +66,13 @@ class VisualPipeline : public MethodPipeline {
   }
 
   RunResults run(const Sequence& seq) override {
+    if (duration_s_ <= 0.0 || (seq.images.empty() && seq.imu.empty())) return runOn(seq);
+    const Timestamp start = seq.images.empty() ? seq.imu.front().t : seq.images.front().t;
+    return runOn(sequenceUntil(seq, start + fromSeconds(duration_s_)));
+  }
+
+ private:
+  RunResults runOn(const Sequence& seq) {
     const std::vector<ThrustSample> thrust = thrustSamples(seq);
     if (ground_truth_residual_) {
       if (seq.forces.empty())
@@ -134,7 +144,6 @@ class VisualPipeline : public MethodPipeline {
     return results;
   }
 
- private:
   // A network trained on what a drag law leaves (weight file version 3) brings the law: the
   // dynamics add it at the state's velocity. backend.drag_* may repeat its coefficients, not
   // contradict them. The file's sigma is the law's own residual, which the network was trained
@@ -165,6 +174,7 @@ class VisualPipeline : public MethodPipeline {
   VisualFrontendConfig frontend_;
   std::shared_ptr<learned::ResidualForceProvider> provider_;
   bool ground_truth_residual_ = false;  // provider_ is built from each sequence's forces
+  double duration_s_ = 0.0;
 };
 
 }  // namespace

@@ -147,4 +147,9 @@ inline std::vector<ThrustSample> thrustSamples(const Sequence& seq) {
 // when the ground truth has them). Throws InputError when t is outside the ground truth.
 NavState groundTruthState(const Sequence& seq, Timestamp t);
 
+// The flight up to and including time `end`: every time-stamped stream (IMU, thrust, rotor
+// speeds, images, ground truth, forces, landmark observations) cut after `end`; calibrations,
+// landmarks and warnings kept. For runs on the first seconds of a flight (run.duration_s).
+Sequence sequenceUntil(const Sequence& seq, Timestamp end);
+
 }  // namespace hdvio
