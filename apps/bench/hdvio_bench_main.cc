@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "hdvio/bench/aggregate.h"
@@ -30,6 +31,7 @@ DEFINE_bool(force, false, "rerun runs that already completed");
 DEFINE_bool(aggregate_only, false, "run nothing; evaluate the runs present and write the table");
 DEFINE_string(hdvio_run, "", "hdvio_run binary (default: next to hdvio_bench, else the build tree's)");
 DEFINE_string(hdvio_sim, "", "hdvio_sim binary (default: next to hdvio_bench, else the build tree's)");
+DEFINE_string(hdvio_image_noise, "", "hdvio_image_noise binary, for peers over noise seeds (default: next to hdvio_bench, else the build tree's)");
 DEFINE_string(python, "/usr/bin/python3", "python interpreter for the figures");
 
 namespace hdvio::bench {
@@ -68,6 +70,29 @@ Command simCommand(const MatrixSequence& q, const std::string& sim, const std::s
   if (!q.sim_images) c.argv.push_back("--no_images");
   c.log = (fs::absolute(out_dir) / "sequences" / (q.name + ".log")).lexically_normal().string();
   return c;
+}
+
+// The noisy copy of a sequence that a seeded peer reads (its images with that seed's noise).
+Command noisyCopyCommand(const Matrix& m, const RunJob& j, const std::string& tool) {
+  std::ostringstream sigma;
+  sigma << m.image_noise_sigma;
+  return {"sequence " + fs::path(j.dataset).filename().string(),
+          {tool, "--dataset", j.noisy_copy_of, "--sigma", sigma.str(), "--seed",
+           std::to_string(*j.seed), "--out", j.dataset},
+          j.dataset + ".log"};
+}
+
+// One command per noisy copy still to write (several peers may read the same copy).
+std::vector<Command> noisyCopyCommands(const Matrix& m, const std::vector<RunJob>& jobs,
+                                       const std::string& tool) {
+  std::vector<Command> commands;
+  std::set<std::string> seen;
+  std::error_code ec;
+  for (const RunJob& j : jobs)
+    if (!j.noisy_copy_of.empty() && j.not_applicable.empty() && !fs::exists(j.dataset, ec) &&
+        seen.insert(j.dataset).second)
+      commands.push_back(noisyCopyCommand(m, j, tool));
+  return commands;
 }
 
 Command runCommand(const RunJob& j, const std::string& run) {
@@ -121,7 +146,7 @@ void drawFigures(const Matrix& matrix, const std::string& out_dir) {
 }
 
 int emitJobs(const Matrix& matrix, const std::vector<RunJob>& jobs, const std::string& out_dir,
-             const std::string& run, const std::string& sim) {
+             const std::string& run, const std::string& sim, const std::string& noise) {
   std::ostringstream o;
   o << "# hdvio_bench jobs for " << matrix.file << ": run phase 1 first, then the lines of phase 2\n"
     << "# in any order or in parallel, then phase 3. Each line is independent.\n";
@@ -130,6 +155,9 @@ int emitJobs(const Matrix& matrix, const std::vector<RunJob>& jobs, const std::s
   for (const auto& q : matrix.sequences)
     if (sequenceUsed(q, jobs) && q.simulated() && !fs::exists(sequencePath(q, out_dir)))
       o << shellLine(simCommand(q, sim, out_dir)) << "\n";
+  const std::vector<Command> copies = noisyCopyCommands(matrix, jobs, noise);
+  if (!copies.empty()) o << "# phase 1b (after phase 1): the peers' noisy copies of the sequences\n";
+  for (const auto& c : copies) o << shellLine(c) << "\n";
   o << "# phase 2: runs\n";
   for (const auto& j : jobs) {
     if (!j.not_applicable.empty()) continue;
@@ -161,6 +189,19 @@ void generateSequences(const Matrix& matrix, const std::vector<RunJob>& jobs,
     if (o.exit_code == 0)
       std::fprintf(stderr, "hdvio_bench: %s generated (%.1f s)\n", commands[i].label.c_str(), o.wall_s);
     else  // its runs then fail with "sequence not found", reported in the table
+      std::fprintf(stderr, "hdvio_bench: %s FAILED (exit %d): %s\n", commands[i].label.c_str(),
+                   o.exit_code, lastErrorLine(commands[i].log).c_str());
+  });
+}
+
+void writeNoisyCopies(const Matrix& matrix, const std::vector<RunJob>& jobs,
+                      const std::string& tool) {
+  const std::vector<Command> commands = noisyCopyCommands(matrix, jobs, tool);
+  for (const Command& c : commands) fs::create_directories(fs::path(c.log).parent_path());
+  runCommands(commands, FLAGS_jobs, [&](std::size_t i, const CommandOutcome& o) {
+    if (o.exit_code == 0)
+      std::fprintf(stderr, "hdvio_bench: %s written (%.1f s)\n", commands[i].label.c_str(), o.wall_s);
+    else  // the peer's run then fails on the missing folder, reported in the table
       std::fprintf(stderr, "hdvio_bench: %s FAILED (exit %d): %s\n", commands[i].label.c_str(),
                    o.exit_code, lastErrorLine(commands[i].log).c_str());
   });
@@ -227,8 +268,14 @@ int benchMain() {
     for (const auto& q : matrix.sequences) any_sim = any_sim || q.simulated();
     const std::string sim =
         any_sim ? findTool(FLAGS_hdvio_sim, "hdvio_sim", HDVIO_BENCH_SIM_BINARY) : "";
-    if (!FLAGS_emit_jobs.empty()) return emitJobs(matrix, jobs, out_dir, run, sim);
+    bool any_noisy = false;
+    for (const auto& j : jobs) any_noisy = any_noisy || !j.noisy_copy_of.empty();
+    const std::string noise = any_noisy ? findTool(FLAGS_hdvio_image_noise, "hdvio_image_noise",
+                                                   HDVIO_BENCH_NOISE_BINARY)
+                                        : "";
+    if (!FLAGS_emit_jobs.empty()) return emitJobs(matrix, jobs, out_dir, run, sim, noise);
     generateSequences(matrix, jobs, out_dir, sim);
+    writeNoisyCopies(matrix, jobs, noise);
     runJobs(matrix, jobs, run);
   }
 

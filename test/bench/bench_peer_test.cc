@@ -15,7 +15,12 @@
 
 #include <unistd.h>
 
+#include <opencv2/core.hpp>
+
 #include "bench_test_helpers.h"
+#include "hdvio/io/asl.h"
+#include "hdvio/io/image.h"
+#include "hdvio/pipeline/visual_sequence_runner.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -167,6 +172,59 @@ TEST_F(BenchPeer, EmittedPeerLinesRunAndAggregate) {
   EXPECT_EQ(agg.exit_code, 0) << agg.output;
   EXPECT_NE(row(readFile(out / "table.md"), "asl").find("| asl | 0.050 / 0.00 |"), std::string::npos)
       << readFile(out / "table.md");
+}
+
+// Over noise seeds (seeds + image_noise_sigma) a peer runs once per seed, on a copy of the
+// sequence whose images carry that seed's noise: the pixels hdvio_run's seeded run decodes.
+TEST(BenchNoisyPeer, PeersRunPerSeedOnImagesWithThatSeedsNoise) {
+  const fs::path dir = freshTempDir("hdvio_bench_noisy_peer_");
+  const fs::path seq = dir / "img";
+  const Outcome sim = runShell(std::string(HDVIO_SIM_BINARY) + " --config " + kSource +
+                               "/config/sim/ci_images.yaml --out " + seq.string());
+  ASSERT_EQ(sim.exit_code, 0) << sim.output;
+  // The fake peer: the ground truth as its estimate, and which folder it read.
+  std::ofstream(dir / "peer.sh")
+      << "#!/bin/sh\nset -e\necho \"$1\" > \"$2.dataset\"\n"
+         "awk -F, '!/^#/ {printf \"%.9f %.9f %s %s %s %s %s %s\\n\", $1 / 1e9, $2, $3, $4, $6, $7, "
+         "$8, $5}' \"$1/mav0/state_groundtruth_estimate0/data.csv\" > \"$2\"\n";
+  fs::permissions(dir / "peer.sh", fs::perms::owner_all);
+  std::ofstream(dir / "matrix.yaml")
+      << "experiments:\n  - {name: vio, config: " << kSource << "/config/experiments/vio.yaml}\n"
+      << "peers:\n  - {name: peer_fake, command: peer.sh}\n"
+      << "sequences:\n  - {name: img, dataset: " << seq.string() << "}\n"
+      << "seeds: [1, 2]\nimage_noise_sigma: 2.0\nmetrics: {plots: false}\n";
+  const fs::path out = dir / "out";
+  const Outcome o = bench("--matrix " + (dir / "matrix.yaml").string() + " --out " +
+                          out.string() + " --only peer_fake --jobs 2");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  EXPECT_NE(o.output.find("2 runs to do, 0 already complete"), std::string::npos) << o.output;
+  const hdvio::Sequence original = hdvio::io::readAsl(seq.string());
+  const cv::Mat first = hdvio::io::loadImage(original.images.front(), &*original.camera);
+  for (int k : {1, 2}) {
+    const fs::path copy = out / "sequences" / ("img.noise_seed" + std::to_string(k));
+    const fs::path run = out / "runs" / "img" / "peer_fake" / ("seed" + std::to_string(k));
+    EXPECT_EQ(readFile(run / "estimate.partial.txt.dataset"), copy.string() + "\n");
+    EXPECT_TRUE(fs::exists(run / "result" / "stamped_traj_estimate.txt"));
+    const hdvio::Sequence noisy = hdvio::io::readAsl(copy.string());
+    ASSERT_EQ(noisy.images.size(), original.images.size());
+    const cv::Mat got = hdvio::io::loadImage(noisy.images.front(), &*noisy.camera);
+    const cv::Mat want = hdvio::withImageNoise(first, 2.0, k, original.images.front().t);
+    EXPECT_EQ(cv::norm(got, want, cv::NORM_INF), 0.0) << "seed " << k;
+    EXPECT_GT(cv::norm(got, first, cv::NORM_L1), 0.5 * first.total()) << "seed " << k;
+  }
+  const std::string csv = readFile(out / "results.csv");
+  EXPECT_NE(csv.find("img,peer_fake,1,ok"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("img,peer_fake,2,ok"), std::string::npos) << csv;
+  // Emitted jobs write the copies before the runs (phase 1b); existing copies are not rewritten.
+  const Outcome e = bench("--matrix " + (dir / "matrix.yaml").string() + " --out " +
+                          (dir / "emit").string() + " --only peer_fake --emit-jobs -");
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  const std::size_t copies = e.output.find("# phase 1b");
+  ASSERT_NE(copies, std::string::npos) << e.output;
+  EXPECT_NE(e.output.find("hdvio_image_noise --dataset " + seq.string() + " --sigma 2 --seed 2",
+                          copies), std::string::npos) << e.output;
+  EXPECT_LT(copies, e.output.find("# phase 2"));
+  fs::remove_all(dir);
 }
 
 // The real matrix: OpenVINS is a column of every sequence, run through the shared peer script.

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <vector>
@@ -19,8 +20,10 @@
 #include "../common/run_command.h"
 #include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/core/config.h"
+#include "hdvio/core/error.h"
 #include "hdvio/eval/alignment.h"
 #include "hdvio/io/asl.h"
+#include "hdvio/run/noisy_image_copy.h"
 #include "hdvio/run/result_writer.h"
 #include "hdvio/sim/simulator.h"
 
@@ -271,6 +274,34 @@ TEST_F(VisualPipeline, RunDurationIsTheWholeRunsPrefix) {
   EXPECT_LE(last, first + 1.5 + 1e-9);
   EXPECT_GT(last, first + 1.5 - 1.0 / sequence_->camera->rate_hz - 1e-9);
   EXPECT_GT(std::stod(whole[cut.size()]), first + 1.5);
+}
+
+// A peer compared over noise seeds must see the pixels hdvio's seeded run sees: on the copy
+// written by writeNoisyImageCopy (hdvio_image_noise) without added noise, hdvio_run must write
+// the seeded run's trajectory byte for byte; another seed's copy must give another trajectory.
+TEST_F(VisualPipeline, NoisyImageCopyHoldsTheSeededRunsPixels) {
+  const auto runOn = [&](const std::string& tag, const fs::path& dataset, const std::string& extra) {
+    const fs::path cfg = dir_ / (tag + ".yaml");
+    std::ofstream(cfg) << "method: vio\nrun: {init_from_groundtruth: true, duration_s: 1.5" << extra
+                       << "}\nfrontend:\n  source: images\n  detector: {cell_size: 16}\n";
+    const fs::path out = dir_ / tag;
+    const Outcome o = runTool("--config " + cfg.string() + " --dataset " + dataset.string() +
+                              " --out " + out.string() + " --evaluate=false");
+    EXPECT_EQ(o.exit_code, 0) << o.output;
+    std::ifstream in(out / "stamped_traj_estimate.txt");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const fs::path copy2 = dir_ / "noisy_seed2", copy3 = dir_ / "noisy_seed3";
+  run::writeNoisyImageCopy((dir_ / "seq").string(), 3.0, 2, copy2.string());
+  run::writeNoisyImageCopy((dir_ / "seq").string(), 3.0, 3, copy3.string());
+  EXPECT_TRUE(fs::is_symlink(copy2 / "mav0" / "imu0"));
+  EXPECT_THROW(run::writeNoisyImageCopy((dir_ / "seq").string(), 3.0, 2, copy2.string()),
+               InputError);  // never overwrites
+  const std::string seeded = runOn("seeded2", dir_ / "seq", ", image_noise_sigma: 3, seed: 2");
+  ASSERT_GT(seeded.size(), 100u);
+  EXPECT_EQ(runOn("copy2", copy2, ""), seeded);
+  EXPECT_NE(runOn("copy3", copy3, ""), seeded);
+  EXPECT_NE(runOn("clean", dir_ / "seq", ""), seeded);
 }
 
 TEST_F(VisualPipeline, MissingImagesAreClearErrors) {

@@ -200,21 +200,32 @@ std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
         j.config = seed ? (dir / "experiment.yaml").string() : e.config;
         jobs.push_back(j);
       }
-    for (const MatrixPeer& p : matrix.peers) {
-      RunJob j;
-      j.sequence = q.name;
-      j.experiment = p.name;
-      j.label = q.name + "/" + p.name;
-      if (!only.empty() && j.label.find(only) == std::string::npos) continue;
-      const fs::path dir = runs / q.name / p.name;
-      j.dataset = sequencePath(q, out_dir);
-      j.dir = dir.string();
-      j.result_dir = (dir / "result").string();
-      j.log = (dir / "log.txt").string();
-      j.peer_command = p.command;
-      j.not_applicable = peerNotApplicable(q);
-      jobs.push_back(j);
-    }
+    // A peer reads the image files: it differs by seed only when the seed's noise is in them.
+    const bool noisy_peers = matrix.image_noise_sigma > 0.0 && !matrix.seeds.empty();
+    for (const MatrixPeer& p : matrix.peers)
+      for (const auto& seed : noisy_peers ? seeds : std::vector<std::optional<int>>{std::nullopt}) {
+        RunJob j;
+        j.sequence = q.name;
+        j.experiment = p.name;
+        j.seed = seed;
+        fs::path dir = runs / q.name / p.name;
+        j.label = q.name + "/" + p.name;
+        j.dataset = sequencePath(q, out_dir);
+        if (seed) {
+          dir /= "seed" + std::to_string(*seed);
+          j.label += "/seed" + std::to_string(*seed);
+          j.noisy_copy_of = j.dataset;
+          j.dataset = (fs::absolute(out_dir).lexically_normal() / "sequences" /
+                       (q.name + ".noise_seed" + std::to_string(*seed))).string();
+        }
+        if (!only.empty() && j.label.find(only) == std::string::npos) continue;
+        j.dir = dir.string();
+        j.result_dir = (dir / "result").string();
+        j.log = (dir / "log.txt").string();
+        j.peer_command = p.command;
+        j.not_applicable = peerNotApplicable(q);
+        jobs.push_back(j);
+      }
   }
   return jobs;
 }

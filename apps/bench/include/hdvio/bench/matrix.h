@@ -46,10 +46,11 @@ struct Matrix {
   std::string file;
   std::vector<MatrixExperiment> experiments;
   std::vector<MatrixSequence> sequences;
-  std::vector<MatrixPeer> peers;  // columns after the experiments; not seeded
+  std::vector<MatrixPeer> peers;  // columns after the experiments
   std::vector<int> seeds;  // empty: each experiment's own run.seed
   // > 0 (only with seeds): the seeded copies also get run.image_noise_sigma, so that runs on
-  // camera images differ by seed (the visual methods' noise on decoded images).
+  // camera images differ by seed (the visual methods' noise on decoded images), and the peers
+  // run once per seed on a copy of the sequence whose images carry that seed's noise.
   double image_noise_sigma = 0.0;
   eval::AlignmentType alignment = eval::AlignmentType::kPosYaw;
   bool plots = true;
@@ -73,6 +74,9 @@ struct RunJob {
   std::string log;          // <dir>/log.txt: the process's stdout and stderr
   std::string peer_command;    // peers: the command (empty for hdvio_run runs)
   std::string not_applicable;  // peers: why the peer cannot run on this sequence (no images)
+  // Seeded peers (image_noise_sigma > 0): the sequence whose noisy copy `dataset` is
+  // (<out>/sequences/<name>.noise_seed<k>, written by hdvio_image_noise before the runs).
+  std::string noisy_copy_of;
   bool peer() const { return !peer_command.empty(); }
 };
 
