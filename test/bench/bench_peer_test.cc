@@ -215,6 +215,7 @@ TEST(BenchNoisyPeer, PeersRunPerSeedOnImagesWithThatSeedsNoise) {
   const std::string csv = readFile(out / "results.csv");
   EXPECT_NE(csv.find("img,peer_fake,1,ok"), std::string::npos) << csv;
   EXPECT_NE(csv.find("img,peer_fake,2,ok"), std::string::npos) << csv;
+  EXPECT_NE(readFile(out / "table.md").find("  - img, seed 2: "), std::string::npos);
   // Emitted jobs write the copies before the runs (phase 1b); existing copies are not rewritten.
   const Outcome e = bench("--matrix " + (dir / "matrix.yaml").string() + " --out " +
                           (dir / "emit").string() + " --only peer_fake --emit-jobs -");

@@ -121,7 +121,8 @@ std::string peerNotes(const Matrix& matrix, const std::vector<RunMetrics>& runs)
     t << "\n- " << p.name << ": `" << p.command << "`\n";
     for (const RunMetrics& r : runs) {
       if (r.job.experiment != p.name) continue;
-      t << "  - " << r.job.sequence << ": ";
+      t << "  - " << r.job.sequence << (r.job.seed ? ", seed " + std::to_string(*r.job.seed) : "")
+        << ": ";
       if (r.status == "ok" && std::isfinite(r.ms_per_image_mean))
         t << "`" << r.peer_timing << "` " << num(r.ms_per_image_mean, 2) << " ms/image mean, "
           << num(r.ms_per_image_median, 2) << " median; process " << num(r.process_wall_s, 1)
