@@ -297,6 +297,19 @@ TEST_F(VisualPipeline, NoisyImageCopyHoldsTheSeededRunsPixels) {
   EXPECT_TRUE(fs::is_symlink(copy2 / "mav0" / "imu0"));
   EXPECT_THROW(run::writeNoisyImageCopy((dir_ / "seq").string(), 3.0, 2, copy2.string()),
                InputError);  // never overwrites
+  // A corrupt image is an error naming it; nothing is left behind, not even the partial copy.
+  const fs::path bad = dir_ / "bad_seq";
+  fs::copy(dir_ / "seq", bad, fs::copy_options::recursive);
+  std::ofstream(bad / "mav0" / "cam0" / "data" /
+                fs::path(sequence_->images[5].path).filename(), std::ios::trunc) << "not a png";
+  try {
+    run::writeNoisyImageCopy(bad.string(), 3.0, 2, (dir_ / "bad_copy").string());
+    ADD_FAILURE() << "no error for a corrupt image";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("data.csv"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "bad_copy"));
+  EXPECT_FALSE(fs::exists(dir_ / "bad_copy.partial"));
   const std::string seeded = runOn("seeded2", dir_ / "seq", ", image_noise_sigma: 3, seed: 2");
   ASSERT_GT(seeded.size(), 100u);
   EXPECT_EQ(runOn("copy2", copy2, ""), seeded);

@@ -24,6 +24,30 @@ void linkEntries(const fs::path& from, const fs::path& to, const std::vector<std
     if (!skipped) fs::create_symlink(fs::absolute(e.path()), to / name);
   }
 }
+
+// The copy's files under `partial`: links, and the images with the seed's noise. Image paths are
+// compared lexically (not through symbolic links: a folder of linked images is a valid source).
+void writeInto(const std::string& dataset, const fs::path& cam, const CameraCalibration& camera,
+               const std::vector<ImageRef>& images, double sigma, std::uint32_t seed,
+               const fs::path& partial) {
+  linkEntries(dataset, partial, {"mav0"});
+  linkEntries(fs::path(dataset) / "mav0", partial / "mav0", {"cam0"});
+  linkEntries(cam, partial / "mav0" / "cam0", {"data"});
+  const fs::path data = partial / "mav0" / "cam0" / "data";
+  fs::create_directories(data);
+  const fs::path original_data = fs::absolute(cam / "data").lexically_normal();
+  for (const ImageRef& ref : images) {
+    const cv::Mat pixels = io::loadImage(ref, &camera);  // InputError names the csv row
+    const fs::path rel = fs::absolute(ref.path).lexically_normal().lexically_relative(original_data);
+    if (rel.empty() || *rel.begin() == "..")
+      throw InputError(ref.list_file, ref.list_line, "image outside cam0/data: " + ref.path);
+    if (rel.extension() != ".png")
+      throw InputError(ref.list_file, ref.list_line, "only PNG images can be copied: " + ref.path);
+    fs::create_directories((data / rel).parent_path());
+    if (!cv::imwrite((data / rel).string(), withImageNoise(pixels, sigma, seed, ref.t)))
+      throw InputError((data / rel).string(), 0, "cannot write the image");
+  }
+}
 }  // namespace
 
 void writeNoisyImageCopy(const std::string& dataset, double sigma, std::uint32_t seed,
@@ -39,23 +63,11 @@ void writeNoisyImageCopy(const std::string& dataset, double sigma, std::uint32_t
 
   const fs::path partial = fs::path(out).string() + ".partial";
   fs::remove_all(partial, ec);
-  linkEntries(dataset, partial, {"mav0"});
-  linkEntries(fs::path(dataset) / "mav0", partial / "mav0", {"cam0"});
-  linkEntries(cam, partial / "mav0" / "cam0", {"data"});
-  const fs::path data = partial / "mav0" / "cam0" / "data";
-  fs::create_directories(data);
-  const fs::path original_data = fs::canonical(cam / "data");
-  for (const ImageRef& ref : seq.images) {
-    const cv::Mat pixels = io::loadImage(ref, &*seq.camera);  // InputError names the csv row
-    const fs::path rel = fs::canonical(ref.path).lexically_relative(original_data);
-    if (rel.empty() || *rel.begin() == "..")
-      throw InputError(ref.list_file, ref.list_line, "image outside cam0/data: " + ref.path);
-    fs::create_directories((data / rel).parent_path());
-    const fs::path png = fs::path(data / rel).replace_extension(".png");
-    if (png != data / rel)
-      throw InputError(ref.list_file, ref.list_line, "only PNG images can be copied: " + ref.path);
-    if (!cv::imwrite(png.string(), withImageNoise(pixels, sigma, seed, ref.t)))
-      throw InputError(png.string(), 0, "cannot write the image");
+  try {
+    writeInto(dataset, cam, *seq.camera, seq.images, sigma, seed, partial);
+  } catch (...) {  // no half-written copy is left behind
+    fs::remove_all(partial, ec);
+    throw;
   }
   fs::rename(partial, out);
 }
