@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -75,7 +76,7 @@ Command simCommand(const MatrixSequence& q, const std::string& sim, const std::s
 // The noisy copy of a sequence that a seeded peer reads (its images with that seed's noise).
 Command noisyCopyCommand(const Matrix& m, const RunJob& j, const std::string& tool) {
   std::ostringstream sigma;
-  sigma << m.image_noise_sigma;
+  sigma << std::setprecision(17) << m.image_noise_sigma;  // the matrix's value, not a rounding
   return {"sequence " + fs::path(j.dataset).filename().string(),
           {tool, "--dataset", j.noisy_copy_of, "--sigma", sigma.str(), "--seed",
            std::to_string(*j.seed), "--out", j.dataset},
