@@ -67,7 +67,12 @@ int runMain() {
                  s.total_s, 1e3 * s.total_s / std::max(1, s.calls), s.calls);
   std::fprintf(stderr, "hdvio_run: %zu states, results in %s\n", results.states.size(),
                FLAGS_out.c_str());
-  if (FLAGS_evaluate) run::evaluateRun(seq, FLAGS_dataset, FLAGS_out, {FLAGS_plots});
+  if (FLAGS_evaluate) {
+    run::RunEvaluationOptions evaluation;
+    evaluation.plots = FLAGS_plots;
+    evaluation.ground_truth_span = results.input_span;
+    run::evaluateRun(seq, FLAGS_dataset, FLAGS_out, evaluation);
+  }
   return 0;
 }
 

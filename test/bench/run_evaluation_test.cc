@@ -41,12 +41,12 @@ class RunEvaluation : public ::testing::Test {
     std::ofstream(dir_ / "result" / "config.yaml") << "method: vio\n";
   }
   void TearDown() override { fs::remove_all(dir_); }
-  // Every 5th ground-truth pose, shifted by `offset` in x and `dt_s` in time.
-  void writeEstimate(const Sequence& seq, double offset, double dt_s) {
+  // Every 5th ground-truth pose up to pose `last`, shifted by `offset` in x and `dt_s` in time.
+  void writeEstimate(const Sequence& seq, double offset, double dt_s, std::size_t last = 1u << 30) {
     std::ofstream f(dir_ / "result" / "stamped_traj_estimate.txt");
     f << "# timestamp[s] tx ty tz qx qy qz qw\n";
     char line[256];
-    for (std::size_t i = 0; i < seq.groundtruth.size(); i += 5) {
+    for (std::size_t i = 0; i < seq.groundtruth.size() && i <= last; i += 5) {
       const auto& s = seq.groundtruth[i];
       std::snprintf(line, sizeof(line), "%.9f %.9f %.9f %.9f %.12f %.12f %.12f %.12f\n",
                     toSeconds(s.t) + dt_s, s.T_WB.p.x() + offset, s.T_WB.p.y(), s.T_WB.p.z(),
@@ -84,6 +84,26 @@ TEST_F(RunEvaluation, ShiftedEstimateGivesItsShiftWithoutAlignment) {
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t at = text.find("\"rmse\": ", text.find("ate_translation_m"));
   EXPECT_NEAR(std::strtod(text.c_str() + at + 8, nullptr), 0.3, 1e-6);
+}
+
+// A run on the first 0.5 s of the 2 s flight (run.duration_s): the rpg sub-trajectory lengths
+// are 10 %, ..., 50 % of the 0.5 m it covered, not of the flight's 2 m (which no pair spans).
+TEST_F(RunEvaluation, RunOnPartOfAFlightGetsLengthsOfThatPart) {
+  const Sequence seq = straightFlight();
+  writeEstimate(seq, 0.0, 0.0, 50);
+  const auto firstDistance = [this] {
+    std::ifstream in(dir_ / "result" / "evaluation" / "metrics.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t at = text.find("\"distance_m\": ");
+    return at == std::string::npos ? -1.0 : std::strtod(text.c_str() + at + 14, nullptr);
+  };
+  ASSERT_TRUE(evaluateRun(seq, "", (dir_ / "result").string(), {false}));
+  EXPECT_NEAR(firstDistance(), 0.2, 1e-9);  // the whole flight's
+  RunEvaluationOptions options;
+  options.plots = false;
+  options.ground_truth_span = {seq.groundtruth.front().t, seq.groundtruth[50].t};
+  ASSERT_TRUE(evaluateRun(seq, "", (dir_ / "result").string(), options));
+  EXPECT_NEAR(firstDistance(), 0.05, 1e-9);
 }
 
 TEST_F(RunEvaluation, ProblemsAreReportedNotThrown) {

@@ -26,6 +26,15 @@ Trajectory Trajectory::subset(const std::vector<std::size_t>& ids) const {
   return out;
 }
 
+Trajectory Trajectory::between(Timestamp begin, Timestamp end) const {
+  std::vector<std::size_t> ids;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (t[i] >= begin && t[i] <= end) ids.push_back(i);
+  Trajectory out = subset(ids);
+  for (std::size_t k = 1; k < out.t.size(); ++k) out.repeated_stamps += out.t[k] == out.t[k - 1];
+  return out;
+}
+
 double Trajectory::pathLength() const {
   double length = 0.0;
   for (std::size_t i = 1; i < p.size(); ++i) length += (p[i] - p[i - 1]).norm();

@@ -110,6 +110,7 @@ class InertialPipeline : public MethodPipeline {
     RunResults results;
     results.states = out.states;
     results.innovations = out.innovations;
+    if (start_offset_s_ > 0.0 || duration_s_ > 0.0) results.input_span = {imu.front().t, imu.back().t};
     const int updates = out.updates + out.rejected + out.no_measurement;
     results.stages.push_back({"propagation", out.propagation_s, static_cast<int>(imu.size())});
     results.stages.push_back({model_ ? "network" : "model", out.source_s, updates});

@@ -131,7 +131,13 @@ bool evaluateRun(const Sequence& seq, const std::string& dataset_path,
     report.options = eo;
     for (const eval::Trajectory* traj : {&gt->trajectory, &est.trajectory})
       if (traj->repeated_stamps > 0) std::fprintf(stderr, "hdvio_run: %s\n", eval::repeatedStampsWarning(*traj).c_str());
-    report.distances = eval::relativeErrorDistances(*gt, eo);
+    // The fractions are of the ground truth's length over the run's span (rpg with a
+    // start_end_time.yaml); the matching itself uses all of it, so ATE does not change.
+    eval::GroundTruth span;
+    if (options.ground_truth_span)
+      span.trajectory = gt->trajectory.between(options.ground_truth_span->first,
+                                               options.ground_truth_span->second);
+    report.distances = eval::relativeErrorDistances(options.ground_truth_span ? span : *gt, eo);
     report.results.push_back(eval::evaluateEstimate(*gt, est, eo, report.distances));
     eval::writeReport(report, *gt, out_dir.string());
     std::cout << eval::formatTable(report) << std::flush;

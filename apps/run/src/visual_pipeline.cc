@@ -68,7 +68,10 @@ class VisualPipeline : public MethodPipeline {
   RunResults run(const Sequence& seq) override {
     if (duration_s_ <= 0.0 || (seq.images.empty() && seq.imu.empty())) return runOn(seq);
     const Timestamp start = seq.images.empty() ? seq.imu.front().t : seq.images.front().t;
-    return runOn(sequenceUntil(seq, start + fromSeconds(duration_s_)));
+    const Timestamp end = start + fromSeconds(duration_s_);
+    RunResults results = runOn(sequenceUntil(seq, end));
+    results.input_span = {start, end};
+    return results;
   }
 
  private:

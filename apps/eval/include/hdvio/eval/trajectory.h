@@ -26,6 +26,8 @@ struct Trajectory {
   void reserve(std::size_t n);
   void push(Timestamp time, const Vec3& position, const Mat3& rotation);
   Trajectory subset(const std::vector<std::size_t>& ids) const;
+  // The poses stamped in [begin, end].
+  Trajectory between(Timestamp begin, Timestamp end) const;
   // Length of the polyline through all positions, m.
   double pathLength() const;
 };

@@ -3,6 +3,7 @@
 // CSVs of velocity, biases and forces (IMU frame: external, learned residual, their sum) with the
 // same timestamps, per-frame and per-image timing, per-stage timing and the effective configuration. Everything goes to a temporary folder that is
 // renamed into place at the end, so a failed run never leaves partial results.
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -56,6 +57,10 @@ struct RunResults {
   std::vector<Vec3> residual_force_B;
   // Displacement updates of the inertial filters (innovations.csv); empty for other methods.
   std::vector<imo::UpdateInnovation> innovations;
+  // The input's time span when the config limited the run to part of the sequence
+  // (run.start_offset_s, run.duration_s); empty for a run on all of it. The evaluation takes
+  // its rpg sub-trajectory lengths from the ground truth of this span.
+  std::optional<std::pair<Timestamp, Timestamp>> input_span;
 };
 
 // Summary of per-call times; quantiles by nearest rank (a time that was measured). All NaN if empty.

@@ -4,6 +4,7 @@
 // numbers are the ones hdvio_eval prints for the same folders.
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "hdvio/core/sequence.h"
 #include "hdvio/eval/evaluation.h"
@@ -13,6 +14,10 @@ namespace hdvio::run {
 struct RunEvaluationOptions {
   bool plots = true;  // figures need /usr/bin/python3 with matplotlib; skipped with a note if absent
   eval::AlignmentType alignment = eval::AlignmentType::kPosYaw;
+  // When set (RunResults::input_span), the rpg sub-trajectory lengths are fractions of the
+  // ground truth's length over this span: a run on part of a flight gets lengths of that part,
+  // not of the whole flight.
+  std::optional<std::pair<Timestamp, Timestamp>> ground_truth_span;
 };
 
 // Ground truth exactly as hdvio_eval reads it when dataset_path is an ASL folder (its
