@@ -4,6 +4,7 @@
 #include <hdf5.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -414,6 +415,8 @@ TEST(MalformedDatasets, FilesThatCrashLibhdf5AreInputErrors) {
     std::string err;
     EXPECT_EQ(run(std::string(HDVIO_INFO_BIN) + " " + h5, &err), 2) << err;
     EXPECT_EQ(err.rfind("error: " + h5, 0), 0u) << err;
+    // Only that line: nothing the crashing child printed (a sanitizer's report in those builds).
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   }
 }
 

@@ -1,5 +1,6 @@
 #include "hdf5_snapshot.h"
 
+#include <fcntl.h>
 #include <hdf5.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -185,6 +186,14 @@ std::vector<Hdf5Entry> readHdf5Snapshot(const std::string& path) {
   }
   if (child == 0) {
     close(fds[0]);
+    // Nothing the child prints reaches the user (libhdf5's error stack, a sanitizer's report of
+    // the crash): the parent turns its end into one error line.
+    const int null_fd = open("/dev/null", O_WRONLY);
+    if (null_fd >= 0) {
+      dup2(null_fd, STDOUT_FILENO);
+      dup2(null_fd, STDERR_FILENO);
+      close(null_fd);
+    }
     Status status = kOk;
     std::vector<Hdf5Entry> entries;
     try {
@@ -202,11 +211,13 @@ std::vector<Hdf5Entry> readHdf5Snapshot(const std::string& path) {
   int wstatus = 0;
   while (waitpid(child, &wstatus, 0) < 0 && errno == EINTR) {
   }
+  // A signal, a sanitizer's exit (it reports a crash and exits with its own code) or an
+  // exception in the reader: the file made libhdf5 fail, whatever the build.
   if (WIFSIGNALED(wstatus))
     throw InputError(path, 0, "damaged HDF5 file: libhdf5 crashed reading it (signal " +
                                   std::to_string(WTERMSIG(wstatus)) + ": " + strsignal(WTERMSIG(wstatus)) + ")");
   if (!WIFEXITED(wstatus) || WEXITSTATUS(wstatus) != 0)
-    throw InputError(path, 0, "cannot read HDF5 file (its reader process failed with code " +
+    throw InputError(path, 0, "damaged HDF5 file: libhdf5 failed reading it (its reader process ended with code " +
                                   std::to_string(WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : -1) + ")");
   if (!complete) throw std::runtime_error("HDF5 reader: truncated result from the child process");
   if (status == kNotHdf5) throw InputError(path, 0, "not an HDF5 file");
