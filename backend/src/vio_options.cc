@@ -1,6 +1,7 @@
 #include "hdvio/backend/vio_options.h"
 
 #include <stdexcept>
+#include <utility>
 
 #include "hdvio/core/error.h"
 
@@ -126,6 +127,20 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   c.finish();
   finalize(&o);
   return o;
+}
+
+void adoptImuNoise(const ImuCalibration& calibration, const ConfigReader& section, VioBackendOptions* o) {
+  const std::pair<const char*, std::pair<double, double*>> keys[] = {
+      {"gyro_noise_density", {calibration.gyro_noise_density, &o->imu.gyro_noise_density}},
+      {"accel_noise_density", {calibration.accel_noise_density, &o->imu.accel_noise_density}},
+      {"gyro_random_walk", {calibration.gyro_random_walk, &o->imu.gyro_random_walk}},
+      {"accel_random_walk", {calibration.accel_random_walk, &o->imu.accel_random_walk}}};
+  for (const auto& [key, value] : keys) {
+    if (section.has(key) || !(value.first > 0.0)) continue;
+    *value.second = value.first;
+    section.recordEffective(key, value.first);
+  }
+  finalize(o);
 }
 
 }  // namespace hdvio

@@ -278,6 +278,11 @@ void ConfigReader::finish() const {
   }
 }
 
+void ConfigReader::recordEffective(const std::string& key, double value) const {
+  YAML::Node eff = effective_;
+  eff[key] = toYaml(value);
+}
+
 std::string ConfigReader::effectiveYaml() const {
   YAML::Emitter out;
   out << state_->effective_root;

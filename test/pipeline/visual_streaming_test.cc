@@ -94,9 +94,12 @@ TEST(VisualStreaming, EurocExcerptSampleBySampleMatchesHdvioRunByteForByte) {
   const std::string dataset = std::string(HDVIO_DATA_DIR) + "/euroc/V1_01_easy_excerpt";
   if (!fs::exists(dataset)) GTEST_SKIP() << "no " << dataset;
   const std::string config = std::string(HDVIO_SOURCE_DIR) + "/config/experiments/vio_frontend.yaml";
-  // The experiment's options: its backend section; its frontend section holds the defaults.
+  // The experiment's options: its backend section with the IMU noise of the flight's
+  // calibration where it is silent (as hdvio_run); its frontend section holds the defaults.
   VisualEstimatorOptions options;
-  options.backend = loadVioBackendOptions(ConfigReader::fromFile(config).section("backend"), VioMethod::kVio);
+  const ConfigReader backend = ConfigReader::fromFile(config).section("backend");
+  options.backend = loadVioBackendOptions(backend, VioMethod::kVio);
+  adoptImuNoise(*io::readSequence(dataset).imu_calibration, backend, &options.backend);
   ASSERT_TRUE(options.frontend.backend_pose_prior && options.frontend.backend_feedback);
   expectStreamingMatchesHdvioRun(dataset, config, options, StartKind::kStaticAtRest);
 }
@@ -111,6 +114,8 @@ TEST(VisualStreaming, RenderedMovingStartSampleBySampleMatchesHdvioRunByteForByt
                            "frontend: {source: images, detector: {cell_size: 16}}\n";
   VisualEstimatorOptions options;
   options.backend = defaultVioBackendOptions(VioMethod::kVimo);
+  adoptImuNoise(*io::readSequence(seq.string()).imu_calibration, ConfigReader::fromString("{}"),
+                &options.backend);
   options.frontend.options.detector.cell_size = 16;
   expectStreamingMatchesHdvioRun(seq.string(), config.string(), options,
                                  StartKind::kVisualInertial);

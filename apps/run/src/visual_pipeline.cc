@@ -21,8 +21,8 @@ namespace {
 class VisualPipeline : public MethodPipeline {
  public:
   VisualPipeline(const std::string& method, const ConfigReader& cfg, const ExperimentFile& file)
-      : method_(parseVioMethod(method)), file_(file) {
-    options_ = loadVioBackendOptions(cfg.optionalSection("backend"), method_);
+      : method_(parseVioMethod(method)), file_(file), backend_cfg_(cfg.optionalSection("backend")) {
+    options_ = loadVioBackendOptions(backend_cfg_, method_);
     const ConfigReader r = cfg.optionalSection("run");
     r.readOptional("init_from_groundtruth", &run_.init_from_groundtruth);
     // The start (VioStarter, on tracks and images alike): visual-inertial initialization, static
@@ -76,6 +76,8 @@ class VisualPipeline : public MethodPipeline {
 
  private:
   RunResults runOn(const Sequence& seq) {
+    VioBackendOptions options = options_;
+    if (seq.imu_calibration) adoptImuNoise(*seq.imu_calibration, backend_cfg_, &options);
     const std::vector<ThrustSample> thrust = thrustSamples(seq);
     if (ground_truth_residual_) {
       if (seq.forces.empty())
@@ -92,12 +94,12 @@ class VisualPipeline : public MethodPipeline {
     VioRunOutput out;
     std::vector<double> backend_ms;  // per image (on images; per frame on tracks: timing.csv)
     if (resolveObservationSource(frontend_.source, seq) == ObservationSource::kTracks) {
-      out = runVioOnTracks(seq, options_, run_, provider_);
+      out = runVioOnTracks(seq, options, run_, provider_);
       std::fprintf(stderr, "hdvio_run: started from the %s initialization at %.2f s\n",
                    toString(out.start).c_str(), toSeconds(out.start_t - seq.imu.front().t));
     } else {
       Progress progress(toString(method_) + " (images)", seq.images.front().t, seq.images.back().t);
-      ImageRunOutput images = runVioOnImages(seq, options_, run_, frontend_, provider_, true,
+      ImageRunOutput images = runVioOnImages(seq, options, run_, frontend_, provider_, true,
                                              [&progress](Timestamp t) { progress.update(t); });
       progress.finish();
       out = std::move(images.vio);
@@ -172,6 +174,7 @@ class VisualPipeline : public MethodPipeline {
 
   VioMethod method_;
   ExperimentFile file_;
+  ConfigReader backend_cfg_;  // kept to record the IMU noise a sequence's calibration gives
   VioBackendOptions options_;
   VioRunOptions run_;
   VisualFrontendConfig frontend_;

@@ -5,6 +5,7 @@
 
 #include "hdvio/backend/adaptive_force_walk.h"
 #include "hdvio/core/config.h"
+#include "hdvio/core/sequence.h"
 #include "hdvio/factors/point_mass_dynamics.h"
 #include "hdvio/factors/imu_preintegration.h"
 #include "hdvio/factors/reprojection_factor.h"
@@ -99,6 +100,13 @@ struct VioBackendOptions {
 
 // Reads the keys of a `backend:` section; values not given keep their defaults above.
 VioBackendOptions loadVioBackendOptions(const ConfigReader& section, VioMethod method);
+
+// The IMU's white-noise densities and bias random walks from the sequence's calibration
+// (imu0/sensor.yaml, as OpenVINS and Basalt take them) for each of
+// {gyro,accel}_{noise_density,random_walk} that the backend section does not set: the
+// experiment's value wins, a calibration value of 0 (not given) keeps the default. Each adopted
+// value is recorded in the section's effective configuration.
+void adoptImuNoise(const ImuCalibration& calibration, const ConfigReader& section, VioBackendOptions* o);
 // Defaults for a method (no config).
 VioBackendOptions defaultVioBackendOptions(VioMethod method);
 
