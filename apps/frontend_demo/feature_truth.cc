@@ -9,7 +9,6 @@
 #include "hdvio/core/error.h"
 
 namespace hdvio {
-namespace {
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
@@ -25,8 +24,6 @@ std::string statsLine(const ErrorStats& s) {
                 100 * s.frac_above_1px, 100 * s.frac_above_2px, 100 * s.frac_above_5px, s.rms_below_5px);
   return b;
 }
-
-}  // namespace
 
 ErrorStats errorStats(std::vector<double> e) {
   ErrorStats s;

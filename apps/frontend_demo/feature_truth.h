@@ -24,7 +24,11 @@ struct ErrorStats {
   double frac_above_1px = 0, frac_above_2px = 0, frac_above_5px = 0;
   double rms_below_5px = 0;  // the noise part, mismatches left out
 };
+// The q-quantile by nearest rank; 0 for an empty vector.
+double quantile(std::vector<double> v, double q);
 ErrorStats errorStats(std::vector<double> errors_px);
+// One line: count, rms, median, p90, fractions above 1 / 2 / 5 px, rms below 5 px.
+std::string statsLine(const ErrorStats& s);
 
 struct FeatureTruthSummary {
   int images = 0, tracked_images = 0, backend_images = 0, keyframes = 0;

@@ -1,8 +1,9 @@
-// hdvio_feature_truth: the visual pipeline (frontend + backend, as hdvio_run) on a flight rendered
-// by hdvio_sim, with every frontend observation checked against the simulator's truth. A
-// landmark's true 3-D point is where the ray of its first observation, from the true camera
-// pose, meets the scene (room box or gate); every later observation is compared with that
-// point's projection at the true pose of its image. Prints where the visual error enters:
+// hdvio_feature_truth: the visual pipeline (frontend + backend, as hdvio_run) on a flight with
+// ground truth, every frontend observation checked against the truth. On a flight rendered by
+// hdvio_sim a landmark's true 3-D point is where the ray of its first observation, from the true
+// camera pose, meets the scene (room box or gate), and every later observation is compared with
+// that point's projection at the true pose of its image. On any other flight (another
+// simulator's, a real one) the point is triangulated from the whole track at the true poses. Prints where the visual error enters:
 // feature position error (by pyramid level and track age), track lengths, landmarks and
 // observations per window, outliers, new landmarks' depth error.
 #include <gflags/gflags.h>
@@ -26,15 +27,17 @@
 #include "hdvio/run/visual_frontend_config.h"
 #include "hdvio/sim/simulator.h"
 #include "feature_truth.h"
+#include "track_geometry.h"
 
 DEFINE_string(config, "", "experiment YAML of a visual method on images (as for hdvio_run)");
-DEFINE_string(dataset, "", "folder written by hdvio_sim (mav0/ and sim_config.yaml)");
+DEFINE_string(dataset, "", "ASL folder with cam0 and ground truth (an hdvio_sim folder: checked against its scene)");
 DEFINE_string(observations, "", "optional CSV of every checked observation");
 
 namespace hdvio {
 namespace {
 
 struct Experiment {
+  ConfigReader backend_cfg;
   VioBackendOptions backend;
   VioRunOptions run;
   VisualFrontendConfig frontend;
@@ -45,8 +48,8 @@ Experiment loadExperiment(const std::string& path) {
   const ConfigReader cfg = ConfigReader::fromFile(path);
   std::string method;
   cfg.readChoice("method", &method, {"vio", "vimo", "vid", "hdvio"}, true);
-  Experiment e;
-  e.backend = loadVioBackendOptions(cfg.optionalSection("backend"), parseVioMethod(method));
+  Experiment e{cfg.optionalSection("backend")};
+  e.backend = loadVioBackendOptions(e.backend_cfg, parseVioMethod(method));
   const ConfigReader r = cfg.optionalSection("run");
   r.readOptional("init_from_groundtruth", &e.run.init_from_groundtruth);
   r.readOptional("visual_inertial_init", &e.run.visual_inertial_init);
@@ -68,22 +71,35 @@ Experiment loadExperiment(const std::string& path) {
 int runMain() {
   cv::setNumThreads(1);
   if (FLAGS_config.empty() || FLAGS_dataset.empty())
-    throw InputError("", 0, "usage: hdvio_feature_truth --config <yaml> --dataset <hdvio_sim folder>");
-  const Experiment e = loadExperiment(FLAGS_config);
-  const std::string sim_yaml = (std::filesystem::path(FLAGS_dataset) / "sim_config.yaml").string();
-  if (!std::filesystem::exists(sim_yaml))
-    throw InputError(sim_yaml, 0, "missing: the dataset must be a folder written by hdvio_sim");
-  const sim::Simulator simulator(sim::loadSimConfig(ConfigReader::fromFile(sim_yaml)));
+    throw InputError("", 0, "usage: hdvio_feature_truth --config <yaml> --dataset <ASL folder>");
+  Experiment e = loadExperiment(FLAGS_config);
   const Sequence seq = io::readAsl(FLAGS_dataset);
   if (!seq.camera) throw InputError(FLAGS_dataset, 0, "sequence has no camera");
   if (seq.groundtruth.empty()) throw InputError(FLAGS_dataset, 0, "sequence has no ground truth");
-
-  FeatureTruthChecker checker(*simulator.scene(), CameraModel::fromCalibration(*seq.camera),
-                              seq.camera->T_BS, [&seq](Timestamp t) { return groundTruthState(seq, t).T_WB; });
-  const ImageRunOutput out = runVioOnImages(seq, e.backend, e.run, e.frontend, nullptr, true, {},
-                                            [&](const ImageStep& step) { checker.add(step); });
-  const FeatureTruthSummary s = checker.summary();
-  std::printf("scene: %zu gates\n%s", simulator.scene()->gates().size(), formatSummary(s, out).c_str());
+  if (seq.imu_calibration) adoptImuNoise(*seq.imu_calibration, e.backend_cfg, &e.backend);
+  const CameraModel camera = CameraModel::fromCalibration(*seq.camera);
+  const auto truth = [&seq](Timestamp t) { return groundTruthState(seq, t).T_WB; };
+  // A flight of hdvio_sim: its scene gives each landmark's true point. Any other flight: the
+  // point triangulated from the track at the true poses (track_geometry.h).
+  const std::string sim_yaml = (std::filesystem::path(FLAGS_dataset) / "sim_config.yaml").string();
+  ImageRunOutput out;
+  if (std::filesystem::exists(sim_yaml)) {
+    const sim::Simulator simulator(sim::loadSimConfig(ConfigReader::fromFile(sim_yaml)));
+    FeatureTruthChecker checker(*simulator.scene(), camera, seq.camera->T_BS, truth);
+    out = runVioOnImages(seq, e.backend, e.run, e.frontend, nullptr, true, {},
+                         [&](const ImageStep& step) { checker.add(step); });
+    std::printf("scene: %zu gates\n%s", simulator.scene()->gates().size(),
+                formatSummary(checker.summary(), out).c_str());
+    if (!FLAGS_observations.empty()) checker.writeObservations(FLAGS_observations);
+  } else {
+    if (!FLAGS_observations.empty())
+      throw InputError(FLAGS_dataset, 0, "--observations needs a folder written by hdvio_sim (its scene)");
+    TrackGeometryChecker checker(camera, seq.camera->T_BS, truth);
+    out = runVioOnImages(seq, e.backend, e.run, e.frontend, nullptr, true, {},
+                         [&](const ImageStep& step) { checker.add(step); });
+    std::printf("no scene (not an hdvio_sim folder): tracks triangulated at the true poses\n%s",
+                formatGeometrySummary(checker.summary(), out, checker.scoredLandmarks()).c_str());
+  }
   // Position ATE over the states (one per processed image), posyaw-aligned as hdvio_run reports.
   std::vector<Vec3> est, ref;
   for (const NavState& x : out.vio.states) {
@@ -110,7 +126,6 @@ int runMain() {
   std::printf("position error without alignment [m]: first 10 s rms %.4f max %.4f; after rms %.4f max %.4f\n",
               early ? std::sqrt(early2 / early) : 0.0, early_max, late ? std::sqrt(late2 / late) : 0.0,
               late_max);
-  if (!FLAGS_observations.empty()) checker.writeObservations(FLAGS_observations);
   return 0;
 }
 
@@ -119,9 +134,9 @@ int runMain() {
 
 int main(int argc, char** argv) {
   hdvio::parseToolFlags(&argc, &argv, __FILE__,
-      "usage: hdvio_feature_truth --config <experiment.yaml> --dataset <hdvio_sim folder> [--observations out.csv]\n"
-      "runs the visual pipeline on a rendered flight and checks every frontend observation against\n"
-      "the simulator's true projection of the landmark's first-observation ray\n"
+      "usage: hdvio_feature_truth --config <experiment.yaml> --dataset <ASL folder> [--observations out.csv]\n"
+      "runs the visual pipeline on a flight with ground truth and checks every frontend observation\n"
+      "against the truth: hdvio_sim's scene, else the track triangulated at the true poses\n"
       "example: hdvio_feature_truth --config config/experiments/sim_images_vio_gt.yaml --dataset /tmp/seq/random_v10");
   return hdvio::runTool(hdvio::runMain);
 }
