@@ -33,7 +33,7 @@ DEFINE_bool(aggregate_only, false, "run nothing; evaluate the runs present and w
 DEFINE_string(hdvio_run, "", "hdvio_run binary (default: next to hdvio_bench, else the build tree's)");
 DEFINE_string(hdvio_sim, "", "hdvio_sim binary (default: next to hdvio_bench, else the build tree's)");
 DEFINE_string(hdvio_image_noise, "", "hdvio_image_noise binary, for peers over noise seeds (default: next to hdvio_bench, else the build tree's)");
-DEFINE_string(python, "/usr/bin/python3", "python interpreter for the figures");
+DEFINE_string(python, "/usr/bin/python3", "python interpreter for the figures and for indsim sequences");
 
 namespace hdvio::bench {
 namespace {
@@ -67,8 +67,18 @@ std::string benchPlotScript() {
 Command simCommand(const MatrixSequence& q, const std::string& sim, const std::string& out_dir) {
   Command c;
   c.label = "sequence " + q.name;
-  c.argv = {sim, "--config", q.sim_config, "--out", sequencePath(q, out_dir)};
-  if (!q.sim_images) c.argv.push_back("--no_images");
+  if (q.source == MatrixSequence::Source::kIndsim) {
+    // Written beside the folder and renamed at the end: a folder that exists is complete (it
+    // is reused), whatever stopped a render.
+    c.argv = {"/bin/sh", "-c",
+              "rm -rf \"$3.partial\" && \"$0\" \"$1\" --config \"$2\" --out \"$3.partial\" $4 && "
+              "mv \"$3.partial\" \"$3\"",
+              FLAGS_python, indsimScript(q), q.sim_config, sequencePath(q, out_dir),
+              q.sim_images ? "" : "--no-images"};
+  } else {
+    c.argv = {sim, "--config", q.sim_config, "--out", sequencePath(q, out_dir)};
+    if (!q.sim_images) c.argv.push_back("--no_images");
+  }
   c.log = (fs::absolute(out_dir) / "sequences" / (q.name + ".log")).lexically_normal().string();
   return c;
 }
@@ -266,7 +276,8 @@ int benchMain() {
   if (!FLAGS_aggregate_only) {
     const std::string run = findTool(FLAGS_hdvio_run, "hdvio_run", HDVIO_BENCH_RUN_BINARY);
     bool any_sim = false;
-    for (const auto& q : matrix.sequences) any_sim = any_sim || q.simulated();
+    for (const auto& q : matrix.sequences)
+      any_sim = any_sim || q.source == MatrixSequence::Source::kHdvioSim;
     const std::string sim =
         any_sim ? findTool(FLAGS_hdvio_sim, "hdvio_sim", HDVIO_BENCH_SIM_BINARY) : "";
     bool any_noisy = false;

@@ -67,6 +67,27 @@ TEST_F(BenchMatrix, ReadsExperimentsSequencesAndDefaults) {
   EXPECT_TRUE(m.plots);
 }
 
+// A flight of the independent simulator: its JSON, the script beside its folder, with or
+// without images; the bench writes it where it writes hdvio_sim's.
+TEST_F(BenchMatrix, IndsimFlightsAreGeneratedSequences) {
+  fs::create_directories(dir_ / "indsim" / "flights");
+  std::ofstream(dir_ / "indsim" / "indsim.py") << "# simulator\n";
+  std::ofstream(dir_ / "indsim" / "flights" / "f.json") << "{}\n";
+  const Matrix m = loadMatrix(write(std::string(kGood) +
+                                    "  - {name: other, indsim: indsim/flights/f.json}\n"
+                                    "  - {name: slow, indsim: indsim/flights/f.json, images: false}\n"));
+  ASSERT_EQ(m.sequences.size(), 4u);
+  EXPECT_EQ(m.sequences[1].source, MatrixSequence::Source::kHdvioSim);
+  const MatrixSequence& q = m.sequences[2];
+  EXPECT_EQ(q.source, MatrixSequence::Source::kIndsim);
+  EXPECT_TRUE(q.simulated());
+  EXPECT_TRUE(q.sim_images);
+  EXPECT_FALSE(m.sequences[3].sim_images);
+  EXPECT_EQ(q.sim_config, (dir_ / "indsim" / "flights" / "f.json").string());
+  EXPECT_EQ(indsimScript(q), (dir_ / "indsim" / "indsim.py").string());
+  EXPECT_EQ(sequencePath(q, (dir_ / "out").string()), (dir_ / "out" / "sequences" / "other").string());
+}
+
 TEST_F(BenchMatrix, RejectsBadInputWithFileAndLine) {
   const std::string file = (dir_ / "matrix.yaml").string();
   struct Case {
@@ -84,9 +105,13 @@ TEST_F(BenchMatrix, RejectsBadInputWithFileAndLine) {
       {"experiments:\n  - {name: a, config: exp/a.yaml, extra: 1}\nsequences:\n  - {name: r, dataset: data}\n",
        "experiments[0].extra': unknown key"},
       {"experiments:\n  - {name: a, config: exp/a.yaml}\nsequences:\n  - {name: r, dataset: data, sim: sim.yaml}\n",
-       "exactly one of 'dataset' and 'sim'"},
+       "exactly one of 'dataset', 'sim' and 'indsim'"},
       {"experiments:\n  - {name: a, config: exp/a.yaml}\nsequences:\n  - {name: r}\n",
-       "exactly one of 'dataset' and 'sim'"},
+       "exactly one of 'dataset', 'sim' and 'indsim'"},
+      {"experiments:\n  - {name: a, config: exp/a.yaml}\nsequences:\n  - {name: r, sim: sim.yaml, indsim: indsim/flights/f.json}\n",
+       "exactly one of 'dataset', 'sim' and 'indsim'"},
+      {"experiments:\n  - {name: a, config: exp/a.yaml}\nsequences:\n  - {name: r, indsim: sim.yaml}\n",
+       ":4: key 'sequences[0].indsim (its simulator)': no such file"},
       {"experiments:\n  - {name: a, config: exp/a.yaml}\nsequences:\n  - {name: r, dataset: data, images: false}\n",
        "images': unknown key"},
       {"experiments:\n  - {name: a, config: exp/a.yaml}\n  - {name: a, config: exp/b.yaml}\n"

@@ -111,21 +111,29 @@ Matrix loadMatrix(const std::string& path) {
     const ConfigReader& s = sequences[i];
     MatrixSequence q;
     s.read("name", &q.name);
-    std::string dataset, sim;
+    std::string dataset, sim, indsim;
     s.readOptional("dataset", &dataset);
     s.readOptional("sim", &sim);
-    if (s.has("sim")) s.readOptional("images", &q.sim_images);
-    s.finish();  // `images` without `sim` is an unknown key
+    s.readOptional("indsim", &indsim);
+    if (s.has("sim") || s.has("indsim")) s.readOptional("images", &q.sim_images);
+    s.finish();  // `images` with `dataset` is an unknown key
     checkName(path, lineOf(raw, "sequences", i, "name"), "sequence", q.name, &names);
-    if (dataset.empty() == sim.empty())
+    if (int(!dataset.empty()) + int(!sim.empty()) + int(!indsim.empty()) != 1)
       throw InputError(path, lineOf(raw, "sequences", i, "name"),
-                       "key '" + s.path() + "': give exactly one of 'dataset' and 'sim'");
+                       "key '" + s.path() + "': give exactly one of 'dataset', 'sim' and 'indsim'");
     if (!dataset.empty()) {
       q.dataset = resolve(base, dataset);
       requireExists(path, lineOf(raw, "sequences", i, "dataset"), s.path() + ".dataset", q.dataset);
-    } else {
+    } else if (!sim.empty()) {
+      q.source = MatrixSequence::Source::kHdvioSim;
       q.sim_config = resolve(base, sim);
       requireExists(path, lineOf(raw, "sequences", i, "sim"), s.path() + ".sim", q.sim_config);
+    } else {
+      q.source = MatrixSequence::Source::kIndsim;
+      q.sim_config = resolve(base, indsim);
+      requireExists(path, lineOf(raw, "sequences", i, "indsim"), s.path() + ".indsim", q.sim_config);
+      const std::string script = indsimScript(q);
+      requireExists(path, lineOf(raw, "sequences", i, "indsim"), s.path() + ".indsim (its simulator)", script);
     }
     m.sequences.push_back(q);
   }
@@ -151,6 +159,10 @@ Matrix loadMatrix(const std::string& path) {
   metrics.finish();
   cfg.finish();
   return m;
+}
+
+std::string indsimScript(const MatrixSequence& seq) {
+  return (fs::path(seq.sim_config).parent_path().parent_path() / "indsim.py").lexically_normal().string();
 }
 
 std::string sequencePath(const MatrixSequence& seq, const std::string& out_dir) {

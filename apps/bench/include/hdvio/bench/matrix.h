@@ -35,11 +35,16 @@ struct MatrixPeer {
 };
 
 struct MatrixSequence {
+  // Where the flight comes from: a recorded folder, or one the bench generates into
+  // <out>/sequences/<name> with hdvio_sim or with the independent simulator indsim
+  // (../shared/tools/indsim/indsim.py, run by python3).
+  enum class Source { kDataset, kHdvioSim, kIndsim };
   std::string name;
-  std::string dataset;     // absolute path of a recorded flight (empty for simulated ones)
-  std::string sim_config;  // absolute path of an hdvio_sim config (empty for recorded ones)
-  bool sim_images = true;  // false: hdvio_sim --no_images (landmark tracks only)
-  bool simulated() const { return !sim_config.empty(); }
+  Source source = Source::kDataset;
+  std::string dataset;     // kDataset: absolute path of the flight
+  std::string sim_config;  // kHdvioSim: hdvio_sim config; kIndsim: indsim flight JSON (absolute)
+  bool sim_images = true;  // false: generated without images (hdvio_sim --no_images, indsim --no-images)
+  bool simulated() const { return source != Source::kDataset; }
 };
 
 struct Matrix {
@@ -82,6 +87,9 @@ struct RunJob {
 
 // Where a sequence is read from: its dataset, or <out>/sequences/<name> for simulated ones.
 std::string sequencePath(const MatrixSequence& seq, const std::string& out_dir);
+// kIndsim: the simulator beside the flight's folder (<indsim>/flights/<flight>.json ->
+// <indsim>/indsim.py).
+std::string indsimScript(const MatrixSequence& seq);
 
 // Every (sequence, experiment[, seed]) and (sequence, peer) whose label contains `only` (all when
 // empty), sequences in matrix order. Paths only; nothing is written.
