@@ -69,10 +69,11 @@ Command simCommand(const MatrixSequence& q, const std::string& sim, const std::s
   c.label = "sequence " + q.name;
   if (q.source == MatrixSequence::Source::kIndsim) {
     // Written beside the folder and renamed at the end: a folder that exists is complete (it
-    // is reused), whatever stopped a render.
+    // is reused), whatever stopped a render. Without images, indsim still writes cam0's
+    // calibration and image list: removed, as its make_flights.sh does.
     c.argv = {"/bin/sh", "-c",
               "rm -rf \"$3.partial\" && \"$0\" \"$1\" --config \"$2\" --out \"$3.partial\" $4 && "
-              "mv \"$3.partial\" \"$3\"",
+              "{ [ -z \"$4\" ] || rm -rf \"$3.partial/mav0/cam0\"; } && mv \"$3.partial\" \"$3\"",
               FLAGS_python, indsimScript(q), q.sim_config, sequencePath(q, out_dir),
               q.sim_images ? "" : "--no-images"};
   } else {
