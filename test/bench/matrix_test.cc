@@ -129,6 +129,45 @@ TEST_F(BenchMatrix, RejectsBadInputWithFileAndLine) {
   }
 }
 
+// One column, a config per group of sequences (hdvio with each vehicle's model): each run
+// reads its own group's config, also in its seeded copy.
+TEST_F(BenchMatrix, ExperimentsListingSequencesShareAColumn) {
+  const std::string two = "experiments:\n"
+                          "  - {name: a, config: exp/a.yaml, sequences: [real]}\n"
+                          "  - {name: a, config: exp/b.yaml, sequences: [simulated]}\n"
+                          "sequences:\n"
+                          "  - {name: real, dataset: data}\n"
+                          "  - {name: simulated, sim: sim.yaml, images: false}\n";
+  const Matrix m = loadMatrix(write(two + "seeds: [4]\n"));
+  ASSERT_EQ(m.experiments.size(), 2u);
+  const std::vector<RunJob> jobs = expandJobs(m, (dir_ / "out").string(), "");
+  ASSERT_EQ(jobs.size(), 2u);
+  EXPECT_EQ(jobs[0].label, "real/a/seed4");
+  EXPECT_EQ(jobs[0].original_config, (dir_ / "exp" / "a.yaml").string());
+  EXPECT_EQ(jobs[1].label, "simulated/a/seed4");
+  EXPECT_EQ(jobs[1].original_config, (dir_ / "exp" / "b.yaml").string());
+  prepareJobConfig(m, jobs[1]);
+  EXPECT_EQ(YAML::LoadFile(jobs[1].config)["method"].as<std::string>(), "vimo");  // b.yaml's
+
+  const std::string file = (dir_ / "matrix.yaml").string();
+  for (const auto& [yaml, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"experiments:\n  - {name: a, config: exp/a.yaml, sequences: [real]}\n"
+            "  - {name: a, config: exp/b.yaml, sequences: [real]}\n"
+            "sequences:\n  - {name: real, dataset: data}\n",
+            ":3: experiment 'a' runs twice on sequence 'real'"},
+           {"experiments:\n  - {name: a, config: exp/a.yaml, sequences: [real]}\n"
+            "  - {name: a, config: exp/b.yaml}\n"
+            "sequences:\n  - {name: real, dataset: data}\n",
+            ":3: experiment name 'a' appears twice"},
+           {"experiments:\n  - {name: a, config: exp/a.yaml, sequences: [reel]}\n"
+            "sequences:\n  - {name: real, dataset: data}\n",
+            ":2: key 'experiments[0].sequences': no sequence 'reel'"}}) {
+    const std::string e = loadError(yaml);
+    EXPECT_EQ(e.rfind(file, 0), 0u) << e;
+    EXPECT_NE(e.find(expected), std::string::npos) << e;
+  }
+}
+
 TEST_F(BenchMatrix, ExpandsRunsInMatrixOrderAndFiltersThem) {
   Matrix m = loadMatrix(write(std::string(kGood) + "seeds: [3, 5]\n"));
   const std::string out = (dir_ / "out").string();

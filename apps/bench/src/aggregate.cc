@@ -281,7 +281,8 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
     if (std::find(seqs.begin(), seqs.end(), r.job.sequence) == seqs.end()) seqs.push_back(r.job.sequence);
   }
   std::vector<std::string> columns;  // the experiments, then the peers
-  for (const auto& e : matrix.experiments) columns.push_back(e.name);
+  for (const auto& e : matrix.experiments)
+    if (std::find(columns.begin(), columns.end(), e.name) == columns.end()) columns.push_back(e.name);
   for (const auto& p : matrix.peers) columns.push_back(p.name);
   for (const auto& name : columns)
     for (const RunMetrics& r : runs)

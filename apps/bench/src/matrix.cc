@@ -1,5 +1,6 @@
 #include "hdvio/bench/matrix.h"
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -82,8 +83,13 @@ Matrix loadMatrix(const std::string& path) {
     e.read("name", &x.name);
     std::string config;
     e.read("config", &config);
+    e.readOptional("sequences", &x.sequences);
     e.finish();
-    checkName(path, lineOf(raw, "experiments", i, "name"), "experiment", x.name, &names);
+    // A name may repeat when each entry lists its sequences: one column, a config per group.
+    const auto same = std::find_if(m.experiments.begin(), m.experiments.end(),
+                                   [&](const MatrixExperiment& o) { return o.name == x.name; });
+    if (same == m.experiments.end() || x.sequences.empty() || same->sequences.empty())
+      checkName(path, lineOf(raw, "experiments", i, "name"), "experiment", x.name, &names);
     x.config = resolve(base, config);
     requireExists(path, lineOf(raw, "experiments", i, "config"), e.path() + ".config", x.config);
     m.experiments.push_back(x);
@@ -138,6 +144,18 @@ Matrix loadMatrix(const std::string& path) {
     m.sequences.push_back(q);
   }
   if (m.experiments.empty()) throw InputError(path, 0, "key 'experiments': the list is empty");
+  for (std::size_t i = 0; i < m.experiments.size(); ++i) {
+    const MatrixExperiment& x = m.experiments[i];
+    for (const std::string& s : x.sequences) {
+      const long line = lineOf(raw, "experiments", i, "sequences");
+      if (std::none_of(m.sequences.begin(), m.sequences.end(),
+                       [&](const MatrixSequence& q) { return q.name == s; }))
+        throw InputError(path, line, "key '" + experiments[i].path() + ".sequences': no sequence '" + s + "'");
+      for (std::size_t k = 0; k < i; ++k)
+        if (m.experiments[k].name == x.name && m.experiments[k].runsOn(s))
+          throw InputError(path, line, "experiment '" + x.name + "' runs twice on sequence '" + s + "'");
+    }
+  }
   if (m.sequences.empty()) throw InputError(path, 0, "key 'sequences': the list is empty");
 
   cfg.readOptional("seeds", &m.seeds);
@@ -159,6 +177,10 @@ Matrix loadMatrix(const std::string& path) {
   metrics.finish();
   cfg.finish();
   return m;
+}
+
+bool MatrixExperiment::runsOn(const std::string& sequence) const {
+  return sequences.empty() || std::find(sequences.begin(), sequences.end(), sequence) != sequences.end();
 }
 
 std::string indsimScript(const MatrixSequence& seq) {
@@ -193,7 +215,7 @@ std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
   if (seeds.empty()) seeds.push_back(std::nullopt);
   for (const MatrixSequence& q : matrix.sequences) {
     for (const MatrixExperiment& e : matrix.experiments)
-      for (const auto& seed : seeds) {
+      for (const auto& seed : e.runsOn(q.name) ? seeds : std::vector<std::optional<int>>{}) {
         RunJob j;
         j.sequence = q.name;
         j.experiment = e.name;
@@ -210,6 +232,7 @@ std::vector<RunJob> expandJobs(const Matrix& matrix, const std::string& out_dir,
         j.result_dir = (dir / "result").string();
         j.log = (dir / "log.txt").string();
         j.config = seed ? (dir / "experiment.yaml").string() : e.config;
+        j.original_config = e.config;
         jobs.push_back(j);
       }
     // A peer reads the image files: it differs by seed only when the seed's noise is in them.
@@ -247,9 +270,7 @@ void prepareJobConfig(const Matrix& matrix, const RunJob& job) {
   fs::create_directories(job.dir, ec);
   if (ec) throw InputError(job.dir, 0, "cannot create folder: " + ec.message());
   if (!job.seed || job.peer()) return;
-  std::string original;
-  for (const auto& e : matrix.experiments)
-    if (e.name == job.experiment) original = e.config;
+  const std::string& original = job.original_config;
   YAML::Node doc = YAML::LoadFile(original);
   absolutizePaths(doc, fs::path(original).parent_path());
   doc["run"]["seed"] = *job.seed;

@@ -23,8 +23,12 @@
 namespace hdvio::bench {
 
 struct MatrixExperiment {
-  std::string name;
+  std::string name;    // the column; entries that share it run on disjoint sequences
   std::string config;  // absolute path of the experiment YAML
+  // Empty: every sequence. Else only these (e.g. hdvio with the residual-force model of the
+  // vehicle that flew them).
+  std::vector<std::string> sequences;
+  bool runsOn(const std::string& sequence) const;
 };
 
 // An external estimator (a peer such as OpenVINS), run once per sequence with images as
@@ -74,6 +78,7 @@ struct RunJob {
   std::string label;        // "<sequence>/<experiment>[/seed<k>]", what --only matches
   std::string dataset;      // the sequence hdvio_run reads
   std::string config;       // the experiment YAML hdvio_run reads (a seeded copy with seeds)
+  std::string original_config;  // the matrix's experiment YAML (what a seeded copy copies)
   std::string dir;          // <out>/runs/<sequence>/<experiment>[/seed<k>]
   std::string result_dir;   // <dir>/result: hdvio_run --out; a peer's estimate is moved into it
   std::string log;          // <dir>/log.txt: the process's stdout and stderr
