@@ -228,25 +228,37 @@ TEST(BenchNoisyPeer, PeersRunPerSeedOnImagesWithThatSeedsNoise) {
   fs::remove_all(dir);
 }
 
-// The real matrix: OpenVINS is a column of every sequence, run through the shared peer script.
+// The real matrix: flights of both simulators, three noise seeds, OpenVINS a column of every
+// sequence (on each seed's noisy copy) through the shared peer script, and hdvio with the
+// residual-force model of the simulator that rendered the flight.
 TEST_F(BenchPeer, SimImagesMatrixRunsOpenVinsBesideTheFrontendExperiments) {
-  const Outcome o = bench("--matrix " + kSource + "/config/bench/sim_images.yaml --out " +
-                          (dir_ / "sim_images").string() + " --emit-jobs - --only race_v15_wind");
-  ASSERT_EQ(o.exit_code, 0) << o.output;
-  int openvins = 0, hdvio_runs = 0;
-  std::stringstream ss(o.output);
-  for (std::string l; std::getline(ss, l);) {
-    if (l.find("hdvio_sim ") != std::string::npos) {
-      EXPECT_EQ(l.find("--no_images"), std::string::npos) << l;
+  for (const std::string sequence : {"race_v15_wind", "ind_circle_wind"}) {
+    SCOPED_TRACE(sequence);
+    const fs::path out = dir_ / "sim_images";
+    const Outcome o = bench("--matrix " + kSource + "/config/bench/sim_images.yaml --out " +
+                            out.string() + " --emit-jobs - --only " + sequence);
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    const bool indsim = sequence[0] == 'i';
+    int renders = 0, openvins = 0, hdvio_runs = 0;
+    std::stringstream ss(o.output);
+    for (std::string l; std::getline(ss, l);) {
+      if (l.find(indsim ? "/shared/tools/indsim/indsim.py" : "hdvio_sim ") != std::string::npos) {
+        ++renders;
+        EXPECT_EQ(l.find("no_images"), std::string::npos) << l;
+        EXPECT_EQ(l.find("no-images"), std::string::npos) << l;
+      }
+      if (l.find("/peers/openvins/run.sh " + (out / "sequences" / sequence).string() + ".noise_seed") !=
+          std::string::npos)
+        ++openvins;
+      if (l.find("hdvio_run --config " + (out / "runs" / sequence).string()) != std::string::npos)
+        ++hdvio_runs;
     }
-    if (l.find("/peers/openvins/run.sh " + (dir_ / "sim_images/sequences/race_v15_wind").string()) !=
-        std::string::npos)
-      ++openvins;
-    if (l.find("hdvio_run --config " + kSource + "/config/experiments/sim_images_") != std::string::npos)
-      ++hdvio_runs;
+    EXPECT_EQ(renders, 1) << o.output;
+    EXPECT_EQ(openvins, 3) << o.output;
+    EXPECT_EQ(hdvio_runs, 18) << o.output;  // vio, vimo, hdvio x ground-truth / own start x 3 seeds
+    const std::string copy = readFile(out / "runs" / sequence / "hdvio_gt" / "seed2" / "experiment.yaml");
+    EXPECT_NE(copy.find(indsim ? "indsim_drag.tcn" : "sim_drag.tcn"), std::string::npos) << copy;
   }
-  EXPECT_EQ(openvins, 1) << o.output;
-  EXPECT_EQ(hdvio_runs, 6) << o.output;  // vio, vimo, hdvio x ground-truth start, own start
 }
 
 }  // namespace
