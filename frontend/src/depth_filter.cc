@@ -142,7 +142,10 @@ bool DepthFilter::findEpipolarMatch(const Seed& seed, const Frame& frame, const 
     if (best > options_.max_zmssd_per_pixel * kAlignPatch * kAlignPatch) return false;
   }
   if (!align2D(img, patch, 10, &best_px)) return false;
-  *px_found = best_px / scale;
+  // The match's precision is the finest level it reaches (as the reprojector's features).
+  const int finest = refineToFinerLevels(frame.pyramid, A, seed.keyframe->pyramid, seed.feature.px,
+                                         seed.feature.level, level, &best_px);
+  *px_found = best_px * static_cast<double>(1 << finest);
   return true;
 }
 

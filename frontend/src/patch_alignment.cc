@@ -1,5 +1,6 @@
 #include "hdvio/frontend/patch_alignment.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -55,6 +56,30 @@ bool warpPatch(const Eigen::Matrix2d& A_cur_ref, const cv::Mat& ref_img, const V
     }
   }
   return true;
+}
+
+bool warpPatchFromPyramid(const Eigen::Matrix2d& A_cur_ref, const Pyramid& ref_pyramid,
+                          const Vec2& px_ref, int level_ref, int search_level, BorderedPatch* patch) {
+  const int max_ref = static_cast<int>(ref_pyramid.size()) - 1;
+  const int natural = bestSearchLevel(A_cur_ref, 30);
+  const int r = std::clamp(level_ref + search_level - natural, 0, max_ref);
+  // A maps pixels of level_ref; a pixel of level r is 2^(r - level_ref) of them.
+  const Eigen::Matrix2d A_r = A_cur_ref * std::ldexp(1.0, r - level_ref);
+  return warpPatch(A_r, ref_pyramid[r], px_ref, r, search_level, patch);
+}
+
+int refineToFinerLevels(const Pyramid& cur, const Eigen::Matrix2d& A_cur_ref,
+                        const Pyramid& ref_pyramid, const Vec2& px_ref, int level_ref, int level,
+                        Vec2* p) {
+  while (level > 0) {
+    BorderedPatch patch;
+    if (!warpPatchFromPyramid(A_cur_ref, ref_pyramid, px_ref, level_ref, level - 1, &patch)) break;
+    Vec2 q = 2.0 * *p;
+    if (!align2D(cur[level - 1], patch, 10, &q) || (q - 2.0 * *p).norm() > 2.0) break;
+    *p = q;
+    --level;
+  }
+  return level;
 }
 
 bool align2D(const cv::Mat& img, const BorderedPatch& ref, int max_iterations, Vec2* px) {

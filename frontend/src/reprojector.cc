@@ -35,16 +35,18 @@ bool alignToFrame(const CameraModel& camera, const Landmark& lm, const Landmark:
   const Pose T_cur_ref = frame->T_cw * kf.T_cw.inverse();
   const double depth_ref = (kf.T_cw * lm.p_w).norm();
   const Eigen::Matrix2d A = affineWarp(camera, ref.px, ref.f, depth_ref, ref.level, T_cur_ref);
-  const int level = bestSearchLevel(A, static_cast<int>(frame->pyramid.size()) - 1);
+  const int max_level = static_cast<int>(frame->pyramid.size()) - 1;
+  const int level = std::max(bestSearchLevel(A, max_level),
+                             lm.converged ? 0 : std::min(kUnconvergedLevel, max_level));
   BorderedPatch patch;
-  if (!warpPatch(A, kf.pyramid[ref.level], ref.px, ref.level, level, &patch)) return false;
-  const double scale = 1 << level;
-  Vec2 p = *px / scale;
+  if (!warpPatchFromPyramid(A, kf.pyramid, ref.px, ref.level, level, &patch)) return false;
+  Vec2 p = *px / static_cast<double>(1 << level);
   if (!align2D(frame->pyramid[level], patch, 10, &p)) return false;
   if (max_affine_distortion > 0.0)  // keeps p when the refinement fails
     align2DAffine(frame->pyramid[level], patch, 10, max_affine_distortion, &p);
-  *px = p * scale;
-  *level_out = level;
+  const int finest = refineToFinerLevels(frame->pyramid, A, kf.pyramid, ref.px, ref.level, level, &p);
+  *px = p * static_cast<double>(1 << finest);
+  *level_out = finest;
   return true;
 }
 

@@ -277,8 +277,10 @@ bool SemiDirectFrontend::trackAgainst(const FramePtr& frame, const Frame& ref,
   t0 = Clock::now();
   std::vector<PoseObservation> obs;
   obs.reserve(frame->features.size());
-  for (const Feature& f : frame->features)
-    obs.push_back({map_.landmarks.at(f.landmark_id)->p_w, f.f, f.level});
+  for (const Feature& f : frame->features) {
+    const Landmark& lm = *map_.landmarks.at(f.landmark_id);
+    obs.push_back({lm.p_w, f.f, lm.converged ? f.level : std::max(f.level, kUnconvergedLevel)});
+  }
   PoseOptimizerOptions pose_options = options_.pose;
   if (pose_fixed) pose_options.iterations = 0;  // only classify inliers
   const PoseOptimizerResult refined =

@@ -30,9 +30,25 @@ int bestSearchLevel(const Eigen::Matrix2d& A_cur_ref, int max_level);
 bool warpPatch(const Eigen::Matrix2d& A_cur_ref, const cv::Mat& ref_img, const Vec2& px_ref,
                int level_ref, int search_level, BorderedPatch* patch);
 
+// The reference patch as it appears on `search_level` of the current image, sampled from the
+// reference pyramid's level whose resolution matches there: level_ref itself when search_level
+// is the level bestSearchLevel picks for A_cur_ref, a coarser (finer) one for a search on a
+// coarser (finer) level, so the patch is neither aliased nor blurred.
+bool warpPatchFromPyramid(const Eigen::Matrix2d& A_cur_ref, const Pyramid& ref_pyramid,
+                          const Vec2& px_ref, int level_ref, int search_level, BorderedPatch* patch);
+
 // Refines *px (a pixel of img, i.e. of the search level) in place. False if it did not converge
 // or left the image.
 bool align2D(const cv::Mat& img, const BorderedPatch& ref_patch, int max_iterations, Vec2* px);
+
+// Coarse to fine: a feature aligned on `level` of the current pyramid (*p in that level's
+// pixels) is aligned again on each finer level down to 0, against the patch warped for that
+// level, as long as the finer alignment converges within one pixel of the coarser level's
+// result. A coarse level has the wide basin a search needs, level 0 the precision a
+// measurement needs. Returns the finest level reached; *p is in its pixels.
+int refineToFinerLevels(const Pyramid& cur, const Eigen::Matrix2d& A_cur_ref,
+                        const Pyramid& ref_pyramid, const Vec2& px_ref, int level_ref, int level,
+                        Vec2* p);
 
 // Refines *px like align2D, and with it the affine distortion the predicted warp missed (a
 // surface that is not fronto-parallel, seen from a new angle): inverse-compositional

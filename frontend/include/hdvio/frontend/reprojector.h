@@ -14,7 +14,14 @@ struct ReprojectionStats {
   int failed = 0;      // alignments that failed
 };
 
-// Appends one Feature (with landmark_id) per matched landmark to frame->features.
+// A landmark whose depth is still a seed's guess (not converged) projects several pixels off:
+// it is searched on this level or coarser, and the pose optimization weighs it as a
+// measurement of this level.
+constexpr int kUnconvergedLevel = 2;
+
+// Appends one Feature (with landmark_id) per matched landmark to frame->features: aligned on the
+// level that matches the patch's scale (at least kUnconvergedLevel for an unconverged landmark),
+// then refined down to level 0 (refineToFinerLevels); Feature::level is the finest level reached.
 // max_affine_distortion > 0: each match is refined once more with the patch's affine
 // distortion free (align2DAffine, bounded by that norm); 0: translation only (SVO).
 ReprojectionStats reprojectMap(const CameraModel& camera, const FeatureGrid& grid, int max_features,
