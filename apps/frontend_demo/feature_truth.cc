@@ -55,13 +55,67 @@ FeatureTruthChecker::FeatureTruthChecker(const sim::Scene& scene, CameraModel ca
     : scene_(scene), camera_(std::move(camera)), T_BS_(T_BS), truth_(std::move(truth)),
       corner_options_(corner_options) {}
 
-void FeatureTruthChecker::add(const ImageStep& step) {
-  const int image = images_++;
-  if (image == 0) first_t_ = step.record.t;
+void PipelineCounts::add(const ImageStep& step) {
+  ++images_;
   if (!step.record.tracked) return;
   ++tracked_;
   keyframes_ += step.record.frontend_keyframe;
   observations_ += static_cast<long long>(step.observations.size());
+  if (step.result && step.record.used_by_backend) {
+    ++backend_frames_;
+    backend_obs_ += step.result->observations_used;
+    backend_landmarks_ += step.result->landmarks_in_window;
+    backend_outliers_ += step.result->outliers_removed;
+  }
+}
+
+void PipelineCounts::fill(FeatureTruthSummary* s) const {
+  s->images = images_;
+  s->tracked_images = tracked_;
+  s->backend_images = backend_frames_;
+  s->keyframes = keyframes_;
+  s->observations_per_image = tracked_ ? static_cast<double>(observations_) / tracked_ : 0.0;
+  if (backend_frames_ > 0) {
+    s->backend_observations = backend_obs_ / backend_frames_;
+    s->backend_landmarks = backend_landmarks_ / backend_frames_;
+    s->backend_outliers_per_image = backend_outliers_ / backend_frames_;
+  }
+}
+
+void fillErrorBreakdown(const std::vector<ScoredObservation>& scored, const std::vector<double>& track_lengths,
+                        FeatureTruthSummary* s) {
+  std::vector<double> all;
+  std::map<int, std::vector<double>> level;
+  const std::vector<std::pair<std::string, int>> ages = {
+      {"1-2", 2}, {"3-5", 5}, {"6-10", 10}, {"11-20", 20}, {"21-40", 40}, {">40", 1 << 30}};
+  std::vector<std::vector<double>> age(ages.size());
+  for (const ScoredObservation& o : scored) {
+    all.push_back(o.error_px);
+    level[o.level].push_back(o.error_px);
+    for (size_t k = 0; k < ages.size(); ++k)
+      if (o.age <= ages[k].second) {
+        age[k].push_back(o.error_px);
+        break;
+      }
+  }
+  s->all = errorStats(all);
+  for (auto& [l, v] : level) s->by_level[l] = errorStats(v);
+  for (size_t k = 0; k < ages.size(); ++k) s->by_age.push_back({ages[k].first, errorStats(age[k])});
+  s->landmarks = static_cast<int>(track_lengths.size());
+  if (!track_lengths.empty()) {
+    double sum = 0;
+    for (double l : track_lengths) sum += l;
+    s->track_mean = sum / static_cast<double>(track_lengths.size());
+  }
+  s->track_median = quantile(track_lengths, 0.5);
+  s->track_p90 = quantile(track_lengths, 0.9);
+}
+
+void FeatureTruthChecker::add(const ImageStep& step) {
+  const int image = counts_.images();
+  counts_.add(step);
+  if (image == 0) first_t_ = step.record.t;
+  if (!step.record.tracked) return;
   const Timestamp t = step.record.t;
   const Pose T_WC = trueCamera(t);
   const Pose T_CW = T_WC.inverse();
@@ -98,38 +152,16 @@ void FeatureTruthChecker::add(const ImageStep& step) {
     const double d_true = castRay(scene_, T_WC.p, d);
     if (d_true > 0.0) new_depth_errors_.push_back(std::abs((l.p_W - T_WC.p).norm() - d_true) / d_true);
   }
-  if (step.result && step.record.used_by_backend) {
-    ++backend_images_;
-    ++backend_frames_;
-    backend_obs_ += step.result->observations_used;
-    backend_landmarks_ += step.result->landmarks_in_window;
-    backend_outliers_ += step.result->outliers_removed;
-  }
 }
 
 FeatureTruthSummary FeatureTruthChecker::summary() const {
   FeatureTruthSummary s;
-  s.images = images_;
-  s.tracked_images = tracked_;
-  s.backend_images = backend_images_;
-  s.keyframes = keyframes_;
-  s.observations_per_image = tracked_ ? static_cast<double>(observations_) / tracked_ : 0.0;
-  std::vector<double> all;
-  std::map<int, std::vector<double>> level;
-  const std::vector<std::pair<std::string, int>> ages = {
-      {"1-2", 2}, {"3-5", 5}, {"6-10", 10}, {"11-20", 20}, {"21-40", 40}, {">40", 1 << 30}};
-  std::vector<std::vector<double>> age(ages.size());
-  for (const Checked& c : checked_) {
-    const double e = c.err.norm();
-    all.push_back(e);
-    level[c.level].push_back(e);
-    for (size_t k = 0; k < ages.size(); ++k)
-      if (c.age <= ages[k].second) {
-        age[k].push_back(e);
-        break;
-      }
-  }
-  s.all = errorStats(all);
+  counts_.fill(&s);
+  std::vector<ScoredObservation> scored;
+  for (const Checked& c : checked_) scored.push_back({c.err.norm(), c.level, c.age});
+  std::vector<double> lengths;
+  for (const auto& [id, tr] : tracks_) lengths.push_back(tr.count);
+  fillErrorBreakdown(scored, lengths, &s);
   const std::vector<std::pair<std::string, double>> spans = {
       {"0-1.5", 1.5}, {"1.5-3", 3}, {"3-5", 5}, {"5-8", 8}, {"8-20", 20}, {">20", 1e300}};
   std::array<std::vector<double>, kNumCornerKinds> corner;
@@ -152,27 +184,10 @@ FeatureTruthSummary FeatureTruthChecker::summary() const {
     s.by_span.push_back(row);
   }
   for (const auto& [id, tr] : tracks_) ++s.landmarks_by_corner[static_cast<int>(tr.corner.kind)];
-  for (auto& [l, v] : level) s.by_level[l] = errorStats(v);
-  for (size_t k = 0; k < ages.size(); ++k) s.by_age.push_back({ages[k].first, errorStats(age[k])});
-  std::vector<double> lengths;
-  for (const auto& [id, tr] : tracks_) lengths.push_back(tr.count);
-  s.landmarks = static_cast<int>(lengths.size());
-  if (!lengths.empty()) {
-    double sum = 0;
-    for (double l : lengths) sum += l;
-    s.track_mean = sum / static_cast<double>(lengths.size());
-  }
-  s.track_median = quantile(lengths, 0.5);
-  s.track_p90 = quantile(lengths, 0.9);
-  s.new_landmarks_per_keyframe = keyframes_ ? static_cast<double>(new_landmarks_) / keyframes_ : 0.0;
+  s.new_landmarks_per_keyframe = s.keyframes ? static_cast<double>(new_landmarks_) / s.keyframes : 0.0;
   s.new_unconverged_fraction = new_landmarks_ ? static_cast<double>(new_unconverged_) / new_landmarks_ : 0.0;
   s.new_depth_error_median = quantile(new_depth_errors_, 0.5);
   s.new_depth_error_p90 = quantile(new_depth_errors_, 0.9);
-  if (backend_frames_ > 0) {
-    s.backend_observations = backend_obs_ / backend_frames_;
-    s.backend_landmarks = backend_landmarks_ / backend_frames_;
-    s.backend_outliers_per_image = backend_outliers_ / backend_frames_;
-  }
   return s;
 }
 
@@ -194,23 +209,40 @@ void FeatureTruthChecker::writeObservations(const std::string& path) const {
   if (!out) throw InputError(path, 0, "cannot write observations");
 }
 
-std::string formatSummary(const FeatureTruthSummary& s, const ImageRunOutput& run) {
+std::string formatErrorSummary(const FeatureTruthSummary& s, const ImageRunOutput& run,
+                               const std::string& what, int scored_landmarks) {
   std::string o;
   char b[512];
   std::snprintf(b, sizeof(b), "images %d, tracked %d, given to the backend %d, lost %d, re-initializations %d, "
                 "frontend keyframes %d\n", s.images, s.tracked_images, s.backend_images,
                 run.lost_images, run.reinitializations, s.keyframes);
   o += b;
-  std::snprintf(b, sizeof(b), "frontend observations per tracked image %.1f; landmarks %d, images per "
+  const std::string scored =
+      scored_landmarks >= 0 ? " (" + std::to_string(scored_landmarks) + " in 3+ images)" : std::string();
+  std::snprintf(b, sizeof(b), "frontend observations per tracked image %.1f; landmarks %d%s, images per "
                 "track mean %.1f median %.0f p90 %.0f\n", s.observations_per_image, s.landmarks,
-                s.track_mean, s.track_median, s.track_p90);
+                scored.c_str(), s.track_mean, s.track_median, s.track_p90);
   o += b;
-  o += "feature error vs true projection [px], all: " + statsLine(s.all) + "\n";
+  o += what + " [px], all: " + statsLine(s.all) + "\n";
   for (const auto& [l, st] : s.by_level) o += "  level " + std::to_string(l) + ":  " + statsLine(st) + "\n";
   for (const auto& [a, st] : s.by_age) {
     std::snprintf(b, sizeof(b), "  age %-6s ", a.c_str());
     o += b + statsLine(st) + "\n";
   }
+  return o;
+}
+
+std::string formatBackendLine(const FeatureTruthSummary& s) {
+  char b[256];
+  std::snprintf(b, sizeof(b), "backend per image: observations used %.1f, landmarks in window %.1f, "
+                "outliers removed %.2f\n", s.backend_observations, s.backend_landmarks,
+                s.backend_outliers_per_image);
+  return b;
+}
+
+std::string formatSummary(const FeatureTruthSummary& s, const ImageRunOutput& run) {
+  std::string o = formatErrorSummary(s, run, "feature error vs true projection", -1);
+  char b[512];
   o += "by the class of the landmark's first observation (landmarks; observations after the first):\n";
   for (int k = 0; k < kNumCornerKinds; ++k) {
     std::snprintf(b, sizeof(b), "  %-9s %6d  ", cornerKindName(static_cast<CornerKind>(k)), s.landmarks_by_corner[k]);
@@ -231,11 +263,7 @@ std::string formatSummary(const FeatureTruthSummary& s, const ImageRunOutput& ru
                 "median %.2f%% p90 %.2f%%\n", s.new_landmarks_per_keyframe, 100 * s.new_unconverged_fraction,
                 100 * s.new_depth_error_median, 100 * s.new_depth_error_p90);
   o += b;
-  std::snprintf(b, sizeof(b), "backend per image: observations used %.1f, landmarks in window %.1f, "
-                "outliers removed %.2f\n", s.backend_observations, s.backend_landmarks,
-                s.backend_outliers_per_image);
-  o += b;
-  return o;
+  return o + formatBackendLine(s);
 }
 
 }  // namespace hdvio

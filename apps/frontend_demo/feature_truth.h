@@ -53,6 +53,30 @@ struct FeatureTruthSummary {
   double backend_observations = 0, backend_landmarks = 0, backend_outliers_per_image = 0;
 };
 
+// What both checkers count of the pipeline, whatever their truth: images, tracked images,
+// frontend keyframes, observations, and the backend's observations, landmarks and outliers.
+class PipelineCounts {
+ public:
+  void add(const ImageStep& step);
+  int images() const { return images_; }
+  void fill(FeatureTruthSummary* s) const;
+
+ private:
+  int images_ = 0, tracked_ = 0, keyframes_ = 0, backend_frames_ = 0;
+  long long observations_ = 0;
+  double backend_obs_ = 0, backend_landmarks_ = 0, backend_outliers_ = 0;
+};
+
+// A scored observation: its error [px], pyramid level and age (images since the track's first).
+struct ScoredObservation {
+  double error_px;
+  int level, age;
+};
+// s->all, by_level and by_age of the observations; landmarks and track lengths from the number
+// of images of each track.
+void fillErrorBreakdown(const std::vector<ScoredObservation>& scored, const std::vector<double>& track_lengths,
+                        FeatureTruthSummary* s);
+
 class FeatureTruthChecker {
  public:
   using TruthPose = std::function<Pose(Timestamp)>;  // true T_WB at an image time
@@ -89,13 +113,15 @@ class FeatureTruthChecker {
   std::map<int, Track> tracks_;
   std::vector<Checked> checked_;
   std::vector<double> new_depth_errors_;
-  int images_ = 0, tracked_ = 0, backend_images_ = 0, keyframes_ = 0, new_landmarks_ = 0,
-      new_unconverged_ = 0;
-  long long observations_ = 0;
-  double backend_obs_ = 0, backend_landmarks_ = 0, backend_outliers_ = 0;
-  int backend_frames_ = 0;
+  PipelineCounts counts_;
+  int new_landmarks_ = 0, new_unconverged_ = 0;
 };
 
 std::string formatSummary(const FeatureTruthSummary& s, const ImageRunOutput& run);
+// The lines every summary prints: counts, track lengths (with the number of landmarks seen in
+// 3+ images when >= 0), the error of all observations (titled `what`), by level and by age.
+std::string formatErrorSummary(const FeatureTruthSummary& s, const ImageRunOutput& run,
+                               const std::string& what, int scored_landmarks);
+std::string formatBackendLine(const FeatureTruthSummary& s);
 
 }  // namespace hdvio

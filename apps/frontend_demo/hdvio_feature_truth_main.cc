@@ -48,7 +48,7 @@ Experiment loadExperiment(const std::string& path) {
   const ConfigReader cfg = ConfigReader::fromFile(path);
   std::string method;
   cfg.readChoice("method", &method, {"vio", "vimo", "vid", "hdvio"}, true);
-  Experiment e{cfg.optionalSection("backend")};
+  Experiment e{cfg.optionalSection("backend"), {}, {}, {}};
   e.backend = loadVioBackendOptions(e.backend_cfg, parseVioMethod(method));
   const ConfigReader r = cfg.optionalSection("run");
   r.readOptional("init_from_groundtruth", &e.run.init_from_groundtruth);
@@ -98,7 +98,7 @@ int runMain() {
     out = runVioOnImages(seq, e.backend, e.run, e.frontend, nullptr, true, {},
                          [&](const ImageStep& step) { checker.add(step); });
     std::printf("no scene (not an hdvio_sim folder): tracks triangulated at the true poses\n%s",
-                formatGeometrySummary(checker.summary(), out, checker.scoredLandmarks()).c_str());
+                formatGeometrySummary(checker.summary(), out, checker.landmarksInThreeImages()).c_str());
   }
   // Position ATE over the states (one per processed image), posyaw-aligned as hdvio_run reports.
   std::vector<Vec3> est, ref;

@@ -24,7 +24,7 @@ class TrackGeometryChecker {
   void add(const ImageStep& step);
   // by_corner / by_span / new-landmark depth errors stay empty (they need the scene).
   FeatureTruthSummary summary() const;
-  int scoredLandmarks() const;
+  int landmarksInThreeImages() const;  // the tracks long enough to be scored
 
  private:
   struct Obs {
@@ -37,9 +37,7 @@ class TrackGeometryChecker {
   TruthPose truth_;
   double min_parallax_rad_;
   std::map<int, std::vector<Obs>> tracks_;
-  int images_ = 0, tracked_ = 0, keyframes_ = 0, backend_frames_ = 0;
-  long long observations_ = 0;
-  double backend_obs_ = 0, backend_landmarks_ = 0, backend_outliers_ = 0;
+  PipelineCounts counts_;
 };
 
 std::string formatGeometrySummary(const FeatureTruthSummary& s, const ImageRunOutput& run, int scored);
