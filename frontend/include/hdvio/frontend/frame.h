@@ -16,7 +16,7 @@ namespace hdvio::frontend {
 struct Feature {
   Vec2 px;                // level-0 distorted pixel
   Vec3 f;                 // unit bearing in the camera frame
-  int level = 0;          // pyramid level the feature was detected / aligned on
+  int level = 0;          // pyramid level of its precision: detected on, or the finest alignment reached
   int landmark_id = -1;   // -1: not (yet) a landmark
 };
 
