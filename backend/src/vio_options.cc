@@ -1,5 +1,6 @@
 #include "hdvio/backend/vio_options.h"
 
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -139,6 +140,17 @@ void adoptImuNoise(const ImuCalibration& calibration, const ConfigReader& sectio
     if (section.has(key) || !(value.first > 0.0)) continue;
     *value.second = value.first;
     section.recordEffective(key, value.first);
+  }
+  finalize(o);
+}
+
+void adoptModelForceWalk(double walk, const ConfigReader& section, VioBackendOptions* o) {
+  if (!(walk > o->dynamics.force_random_walk) || !std::isfinite(walk)) return;
+  o->dynamics.force_random_walk = walk;
+  section.recordEffective("force_random_walk", walk);
+  if (o->force_walk_adaptive.max < walk) {
+    o->force_walk_adaptive.max = walk;
+    section.recordEffective("force_walk_max", walk);
   }
   finalize(o);
 }

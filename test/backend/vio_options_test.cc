@@ -36,5 +36,23 @@ TEST(VioOptions, ImuNoiseComesFromTheCalibrationUnlessTheExperimentGivesIt) {
   EXPECT_EQ(eff["accel_random_walk"].as<double>(), default_accel_walk);
 }
 
+// The residual-force model's error walk is the least walk of the external force: it raises a
+// lower floor (and the adaptive walk's ceiling if need be), never lowers a higher one.
+TEST(VioOptions, TheModelsErrorWalkIsTheLeastForceWalk) {
+  const ConfigReader cfg = ConfigReader::fromString("backend: {force_random_walk: 0.02, force_walk_max: 0.1}\n");
+  const ConfigReader backend = cfg.section("backend");
+  VioBackendOptions o = loadVioBackendOptions(backend, VioMethod::kHdvio);
+  adoptModelForceWalk(0.0, backend, &o);  // a file that does not say
+  EXPECT_EQ(o.dynamics.force_random_walk, 0.02);
+  adoptModelForceWalk(0.21, backend, &o);
+  EXPECT_EQ(o.dynamics.force_random_walk, 0.21);
+  EXPECT_EQ(o.force_walk_adaptive.max, 0.21);
+  const YAML::Node eff = YAML::Load(cfg.effectiveYaml())["backend"];
+  EXPECT_EQ(eff["force_random_walk"].as<double>(), 0.21);
+  EXPECT_EQ(eff["force_walk_max"].as<double>(), 0.21);
+  adoptModelForceWalk(0.1, backend, &o);  // below the floor: no change
+  EXPECT_EQ(o.dynamics.force_random_walk, 0.21);
+}
+
 }  // namespace
 }  // namespace hdvio

@@ -192,6 +192,29 @@ TEST(ForceWeightFile, Version3CarriesASigmaThatGrows) {
                 "drag_law coefficients must be non-negative");
 }
 
+// Version 5: the walk of the model's held-out error reaches the model (and the estimator).
+TEST(ForceWeightFile, Version5CarriesTheModelErrorWalk) {
+  const Tcn tcn = testing::deterministicTcn();
+  TcnFileInfo info;
+  info.drag_law.linear = Vec3(0.3, 0.3, 0.0);
+  info.force_walk = 0.21;
+  const std::string text = formatTcnFile(tcn, info);
+  EXPECT_EQ(text.rfind("hdvio_tcn 5\n", 0), 0u);
+  EXPECT_NE(text.find("\nsample_times end\nforce_walk 0.21\n"), std::string::npos) << text.substr(0, 300);
+  EXPECT_EQ(parseTcnFile(text, "v5.tcn").info.force_walk, 0.21);
+  const std::string path = tempPath("v5.tcn");
+  saveTcnFile(tcn, info, path);
+  EXPECT_EQ(ResidualForceModel::load(path, 0.3)->forceWalk(), 0.21);
+  std::remove(path.c_str());
+  // No walk: the file stays version 3, and reads as walk 0.
+  info.force_walk = 0.0;
+  const std::string v3 = formatTcnFile(tcn, info);
+  EXPECT_EQ(v3.rfind("hdvio_tcn 3\n", 0), 0u);
+  EXPECT_EQ(parseTcnFile(v3, "v3.tcn").info.force_walk, 0.0);
+  expectFailure(replaced(text, "force_walk 0.21", "force_walk -0.2"), 7, "force_walk must be non-negative");
+  expectFailure(replaced(text, "force_walk 0.21\n", ""), 7, "force_walk");
+}
+
 TEST(DisplacementModel, LoadChecksTaskAndSigma) {
   const std::string path = tempPath("model.tcn");
   saveTcnFile(testing::deterministicResidualTcn(), displacementInfo("accel_gyro"), path, "", TcnEncoding::kFloat32);

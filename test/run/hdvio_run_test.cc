@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include "../common/run_command.h"
 #include "../learned/deterministic_tcn.h"
@@ -380,6 +381,39 @@ TEST_F(HdvioRun, HybridWeightFileSigmaIsTheLawsNotTheModels) {
     moved = std::max(moved, (asked[k].second - plain[k].second).norm());
   }
   EXPECT_GT(moved, 1e-4);  // asked for, the sigma weights the dynamics
+}
+
+// A weight file that states its error's walk (version 5) raises the external force's walk to
+// it: the estimate moves, and config.yaml says what ran.
+TEST_F(HdvioRun, WeightFileWalkRaisesTheForceWalk) {
+  learned::TcnFileInfo info;
+  info.drag_law.linear = Vec3(0.3, 0.3, 0.05);
+  const std::string without = (dir_ / "walk_none.tcn").string();
+  learned::saveTcnFile(learned::testing::deterministicTcn(), info, without, "hdvio_run test");
+  info.force_walk = 0.5;
+  const std::string with = (dir_ / "walk.tcn").string();
+  learned::saveTcnFile(learned::testing::deterministicTcn(), info, with, "hdvio_run test");
+  const auto estimate = [&](const std::string& name, const std::string& weights) {
+    const std::string config = writeConfig(
+        name + ".yaml", "method: hdvio\nbackend: {force_random_walk: 0.02}\n"
+                        "residual_force: {type: tcn, weights: " + weights + "}\n"
+                        "run: {init_from_groundtruth: true}\n");
+    const Outcome o = run("--config " + config + " --dataset " + (dir_ / "seq").string() + " --out " +
+                          (dir_ / ("o_" + name)).string() + " --evaluate=false");
+    EXPECT_EQ(o.exit_code, 0) << o.output;
+    return readForceCsv(dir_ / ("o_" + name) / "stamped_force_estimate.csv");
+  };
+  const auto tight = estimate("w_none", without);
+  const auto loose = estimate("w_file", with);
+  ASSERT_GT(tight.size(), 40u);
+  ASSERT_EQ(tight.size(), loose.size());
+  double moved = 0.0;
+  for (std::size_t k = 0; k < tight.size(); ++k) moved = std::max(moved, (loose[k].second - tight[k].second).norm());
+  EXPECT_GT(moved, 1e-4);
+  const YAML::Node ran = YAML::LoadFile((dir_ / "o_w_file" / "config.yaml").string())["backend"];
+  EXPECT_EQ(ran["force_random_walk"].as<double>(), 0.5);
+  EXPECT_EQ(YAML::LoadFile((dir_ / "o_w_none" / "config.yaml").string())["backend"]["force_random_walk"].as<double>(),
+            0.02);
 }
 
 TEST_F(HdvioRun, BadExperimentsAndMissingSensorsAreClearErrors) {

@@ -61,6 +61,7 @@ class VisualPipeline : public MethodPipeline {
       } else {
         provider_ = learned::makeResidualForceProvider(rf, file.dir);
         adoptDragLaw(provider_->dragLaw(), file.path);
+        adoptModelForceWalk(provider_->forceWalk(), backend_cfg_, &options_);
       }
     }
   }

@@ -13,6 +13,7 @@
 #include "hdvio/core/error.h"
 #include "hdvio/core/tool_flags.h"
 #include "hdvio/learned/flight_folds.h"
+#include "hdvio/learned/force_model_error.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/thrust_identification.h"
 #include "hdvio/learned/torch/reproducible_kernels.h"
@@ -243,9 +244,16 @@ int main(int argc, char** argv) {
     const std::string comment = "trained by hdvio_train --config " + FLAGS_config +
                                 "\nbest epoch " + std::to_string(result.best_epoch) +
                                 ", validation loss " + std::to_string(best.validation_loss);
-    if (drag.enabled()) {  // version 3: the file carries the law
+    // What the estimator must be told about the model: how fast its error on the validation
+    // part moves (learned/force_model_error.h), the least walk of the external force.
+    std::vector<std::vector<Vec3>> errors;
+    for (const auto& f : validation_flights) errors.push_back(learned::forceModelError(f, &result.best, drag));
+    const double walk = learned::modelErrorWalk(errors, arch.sample_rate_hz);
+    std::printf("model error walk on the validation part: %.4g m/s^2/sqrt(s)\n", walk);
+    if (drag.enabled() || walk > 0.0) {  // version 3 carries the law, 5 the walk
       learned::TcnFileInfo info;
       info.drag_law = drag;
+      info.force_walk = walk;
       saveTcnFile(result.best, info, FLAGS_out, comment);
     } else {
       saveTcnWeights(result.best, FLAGS_out, comment);

@@ -107,6 +107,13 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& section, VioMethod m
 // experiment's value wins, a calibration value of 0 (not given) keeps the default. Each adopted
 // value is recorded in the section's effective configuration.
 void adoptImuNoise(const ImuCalibration& calibration, const ConfigReader& section, VioBackendOptions* o);
+
+// The residual-force model's error walk (m/s^2/sqrt(s), measured on held-out flights when it
+// was trained; learned/force_model_error.h) as the least walk of the external force: a
+// force_random_walk below it (the adaptive walk's floor) is raised to it, and the raised value
+// is recorded in the section's effective configuration. The model's uncertainty so reaches
+// the dynamics factor whatever the experiment says.
+void adoptModelForceWalk(double walk, const ConfigReader& section, VioBackendOptions* o);
 // Defaults for a method (no config).
 VioBackendOptions defaultVioBackendOptions(VioMethod method);
 

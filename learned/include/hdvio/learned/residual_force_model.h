@@ -30,7 +30,7 @@ class ResidualForceModel {
  public:
   // Without a variance head, every prediction gets covariance default_sigma^2 * I. drag_law:
   // the law the network was trained to complement (weight file version 3), none by default.
-  ResidualForceModel(Tcn tcn, double default_sigma, DragLaw drag_law = {});
+  ResidualForceModel(Tcn tcn, double default_sigma, DragLaw drag_law = {}, double force_walk = 0.0);
   // Loads a weight file (tcn_weight_file.h); throws InputError on a bad file.
   static std::shared_ptr<const ResidualForceModel> load(const std::string& path,
                                                         double default_sigma);
@@ -38,6 +38,9 @@ class ResidualForceModel {
   const Tcn& tcn() const { return tcn_; }
   // The dynamics must add this law at the state's velocity (hybrid model); zero if none.
   const DragLaw& dragLaw() const { return drag_law_; }
+  // Random walk (m/s^2/sqrt(s)) of the model's error on held-out flights (force_model_error.h):
+  // the least the estimator's external-force walk may be; 0 when the file does not say.
+  double forceWalk() const { return force_walk_; }
   int window() const { return tcn_.architecture().window; }
   double sampleRateHz() const { return tcn_.architecture().sample_rate_hz; }
   double windowSeconds() const { return (window() - 1) / sampleRateHz(); }
@@ -57,6 +60,7 @@ class ResidualForceModel {
   Tcn tcn_;
   double default_sigma_;
   DragLaw drag_law_;
+  double force_walk_ = 0.0;
 };
 
 // Time-ordered interpolation used by windowEndingAt (exposed for tests and tools).

@@ -35,6 +35,9 @@ class ResidualForceProvider {
   // The drag law the provider's forces complement (the dynamics add it at the state's
   // velocity); none by default.
   virtual DragLaw dragLaw() const { return {}; }
+  // The least random walk (m/s^2/sqrt(s)) of the external force the model's error needs
+  // (ResidualForceModel::forceWalk); 0 by default.
+  virtual double forceWalk() const { return 0.0; }
 };
 
 // VIMO: no learned force; zero force with zero covariance.
@@ -58,6 +61,7 @@ class TcnResidualForceProvider final : public ResidualForceProvider {
                                             const Vec3& gyro_bias) const override;
   const ResidualForceModel& model() const { return *model_; }
   DragLaw dragLaw() const override { return model_->dragLaw(); }
+  double forceWalk() const override { return model_->forceWalk(); }
 
  private:
   std::shared_ptr<const ResidualForceModel> model_;

@@ -36,6 +36,9 @@
 // "block_relu 0|1", "window_padding 0|1" after residual (tcn.h); written only when one of
 // them differs from its default (end, 0, 0).
 //
+// Version 5 (a force network with the walk of its held-out error, force_model_error.h) is
+// version 4 with "force_walk <m/s^2/sqrt(s)>" after sample_times; written only when positive.
+//
 // Blank lines and lines starting with '#' are ignored. Any other deviation (missing or extra
 // tensor, wrong shape, unparsable or non-finite number, data after "end") is an InputError
 // naming the file and the line.
@@ -54,6 +57,7 @@ struct TcnFileInfo {
   std::vector<double> output_sigma;    // empty or 3 positive values (output units)
   DragLaw drag_law;                    // force networks: the law they complement (none: zero)
   std::string sample_times = "end";    // "end" | "begin": displacement window sample times
+  double force_walk = 0.0;             // force networks: random walk of their error (0: unknown)
 };
 
 enum class TcnEncoding { kText, kFloat32 };
@@ -63,10 +67,10 @@ struct TcnFile {
   TcnFileInfo info;
 };
 
-// Versions 1 to 4. Version 1 files get the default info.
+// Versions 1 to 5. Version 1 files get the default info.
 TcnFile loadTcnFile(const std::string& path);
 TcnFile parseTcnFile(const std::string& text, const std::string& name);
-// Version 2, 3 when info holds a drag law, 4 with a version-4 field (see above).
+// Version 2, 3 when info holds a drag law, 4 with a version-4 field, 5 with a force walk.
 std::string formatTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& comment = "",
                           TcnEncoding encoding = TcnEncoding::kText);
 void saveTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& path,
