@@ -9,7 +9,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libceres-dev libsuitesparse-dev
-  libgoogle-glog-dev libgflags-dev libyaml-cpp-dev
+  libgoogle-glog-dev libgflags-dev libyaml-cpp-dev nlohmann-json3-dev
   libopencv-dev
   libhdf5-dev
   libbz2-dev liblz4-dev

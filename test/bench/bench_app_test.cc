@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include "bench_test_helpers.h"
@@ -59,6 +60,46 @@ TEST_F(BenchApp, StageTotalsLeaveOutTheFrontendsParts) {
   EXPECT_EQ(stages[1].first, "frontend");
   EXPECT_EQ(stages[2].first, "backend");
   EXPECT_DOUBLE_EQ(stages[0].second + stages[1].second + stages[2].second, 5.5);
+}
+
+// results.json parses as JSON: missing numbers are null, an error's newlines and control
+// characters are escaped (not dropped), invalid UTF-8 becomes U+FFFD instead of raw bytes.
+TEST_F(BenchApp, ResultsJsonHasNullsAndEscapedText) {
+  hdvio::bench::Matrix matrix;
+  matrix.file = "matrix \"q\".yaml";
+  hdvio::bench::RunMetrics a;
+  a.job.sequence = "s";
+  a.job.experiment = "vio";
+  a.job.seed = 3;
+  a.status = "failed";
+  a.error = "line 1\nline 2\t\x01 \xff";
+  a.ate_t_m = 0.1;
+  a.ate_r_deg = INFINITY;
+  a.matched = 7;
+  a.stages = {{"frontend", 2.0}, {"backend", NAN}};
+  hdvio::bench::RunMetrics b;
+  b.job.sequence = "s";
+  b.job.experiment = "vimo";
+  const fs::path out = dir_ / "json";
+  hdvio::bench::writeBenchReport(matrix, {a, b}, out.string());
+  const nlohmann::json j = nlohmann::json::parse(readFile(out / "results.json"));
+  EXPECT_EQ(j["matrix"], matrix.file);
+  EXPECT_EQ(j["alignment"], "posyaw");
+  ASSERT_EQ(j["runs"].size(), 2u);
+  const nlohmann::json& r = j["runs"][0];
+  EXPECT_EQ(r["experiment"], "vio");
+  EXPECT_TRUE(r["seed"].is_number_integer());
+  EXPECT_EQ(r["seed"], 3);
+  EXPECT_EQ(r["ate_t_m"].get<double>(), 0.1);  // round-trips exactly
+  EXPECT_TRUE(r["ate_r_deg"].is_null());       // inf
+  EXPECT_TRUE(r["rpe_t_m"].is_null());         // NaN
+  EXPECT_EQ(r["matched"], 7);
+  EXPECT_EQ(r["stages"]["frontend"].get<double>(), 2.0);
+  EXPECT_TRUE(r["stages"]["backend"].is_null());
+  EXPECT_EQ(r["error"], "line 1\nline 2\t\x01 \xef\xbf\xbd");
+  EXPECT_EQ(r["peer"], false);
+  EXPECT_TRUE(j["runs"][1]["seed"].is_null());
+  EXPECT_EQ(j["runs"][1]["status"], "missing");
 }
 
 TEST_F(BenchApp, BadMatrixIsOneErrorLineAndExitCode2) {

@@ -11,9 +11,12 @@
 #include <regex>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "hdvio/eval/alignment.h"
 #include "hdvio/eval/association.h"
 #include "hdvio/eval/pose_errors.h"
+#include "hdvio/eval/report.h"
 #include "hdvio/eval/statistics.h"
 #include "hdvio/eval/trajectory_io.h"
 
@@ -69,6 +72,38 @@ double jsonRmse(const std::string& json, const std::string& key) {
   const std::string rest = json.substr(at);
   if (!std::regex_search(rest, m, std::regex("\"rmse\": ([-0-9.eE+]+)"))) return NAN;
   return std::stod(m[1]);
+}
+
+// metrics.json parses as JSON: a statistic without samples (NaN) is null, a metric that was
+// not computed is null, names and notes round-trip through the escaping.
+TEST(EvalReportJson, MissingValuesAreNullAndTextRoundTrips) {
+  EvaluationReport report;
+  report.ground_truth_source = "gt \"dir\"\\x";
+  EstimateResult r;
+  r.name = "a\nb";
+  r.num_poses = 5;
+  r.ate_translation = computeStatistics({1.0, 2.0});
+  r.ate_rotation_deg = computeStatistics({});  // count 0, NaN fields
+  r.notes = {"tab\there", "\x01"};
+  report.results.push_back(r);
+  const nlohmann::json j = nlohmann::json::parse(formatJson(report));
+  EXPECT_EQ(j["ground_truth"], report.ground_truth_source);
+  EXPECT_EQ(j["options"]["alignment"], "posyaw");
+  EXPECT_EQ(j["options"]["evo_rpe_delta"].get<double>(), 10.0);
+  ASSERT_EQ(j["estimates"].size(), 1u);
+  const nlohmann::json& e = j["estimates"][0];
+  EXPECT_EQ(e["name"], "a\nb");
+  EXPECT_EQ(e["index"], 0);
+  EXPECT_EQ(e["poses"], 5);
+  EXPECT_EQ(e["alignment"]["rotation"].size(), 9u);
+  EXPECT_EQ(e["ate_translation_m"]["count"], 2);
+  EXPECT_EQ(e["ate_translation_m"]["rmse"].get<double>(), r.ate_translation.rmse);  // exact
+  EXPECT_EQ(e["ate_rotation_deg"]["count"], 0);
+  EXPECT_TRUE(e["ate_rotation_deg"]["rmse"].is_null());
+  EXPECT_TRUE(e["evo_rpe_translation_m"].is_null());
+  EXPECT_TRUE(e["velocity_m_s"].is_null());
+  EXPECT_TRUE(e["relative_errors"].is_array());
+  EXPECT_EQ(e["notes"], nlohmann::json({"tab\there", "\x01"}));
 }
 
 TEST_F(EvalApp, MissingFlagsPrintUsageAndExit2) {

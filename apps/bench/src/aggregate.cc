@@ -12,6 +12,8 @@
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "hdvio/bench/process_pool.h"
 #include "hdvio/eval/estimate_inputs.h"
 #include "hdvio/eval/report.h"
@@ -60,14 +62,40 @@ std::string full(double x, const char* missing) {
   return buf;
 }
 
-std::string jstr(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) continue;
-    out += c;
-  }
-  return out + "\"";
+// ordered_json: results.json keeps its key order (tests scan the text after a run's "experiment").
+using Json = nlohmann::ordered_json;
+
+// A number, or null when the run has none (NaN).
+Json jvalue(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
+
+Json runJson(const RunMetrics& r) {
+  Json stages = Json::object();
+  for (const auto& [name, seconds] : r.stages) stages[name] = jvalue(seconds);
+  return {{"sequence", r.job.sequence},
+          {"experiment", r.job.experiment},
+          {"seed", r.job.seed ? Json(*r.job.seed) : Json(nullptr)},
+          {"status", r.status},
+          {"ate_t_m", jvalue(r.ate_t_m)},
+          {"ate_r_deg", jvalue(r.ate_r_deg)},
+          {"rpe_t_m", jvalue(r.rpe_t_m)},
+          {"velocity_rmse_m_s", jvalue(r.velocity_rmse)},
+          {"force_total_rmse_m_s2", jvalue(r.force_total_rmse)},
+          {"force_external_rmse_m_s2", jvalue(r.force_external_rmse)},
+          {"matched", r.matched},
+          {"poses", r.poses},
+          {"runtime_s", jvalue(r.runtime_s)},
+          {"duration_s", jvalue(r.duration_s)},
+          {"realtime_factor", jvalue(r.realtime_factor)},
+          {"process_wall_s", jvalue(r.process_wall_s)},
+          {"stages", stages},
+          {"result_dir", r.job.result_dir},
+          {"log", r.job.log},
+          {"error", r.error},
+          {"peer", r.job.peer()},
+          {"ms_per_image_mean", jvalue(r.ms_per_image_mean)},
+          {"ms_per_image_median", jvalue(r.ms_per_image_median)},
+          {"peer_timing", r.peer_timing},
+          {"ms_per_image_p90", jvalue(r.ms_per_image_p90)}};
 }
 
 std::string csvField(const std::string& s) {
@@ -399,9 +427,7 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
          "force_total_rmse_m_s2,force_external_rmse_m_s2,matched,poses,runtime_s,duration_s,"
          "realtime_factor,process_wall_s,result_dir,error,peer,ms_per_image_mean,"
          "ms_per_image_median,peer_timing,ms_per_image_p90\n";
-  std::ostringstream json;
-  json << "{\n  \"matrix\": " << jstr(matrix.file) << ",\n  \"alignment\": "
-       << jstr(eval::alignmentName(matrix.alignment)) << ",\n  \"runs\": [";
+  Json json_runs = Json::array();
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const RunMetrics& r = runs[i];
     const std::string seed = r.job.seed ? std::to_string(*r.job.seed) : "";
@@ -415,36 +441,19 @@ std::string writeBenchReport(const Matrix& matrix, const std::vector<RunMetrics>
         << (r.job.peer() ? "true" : "false") << "," << full(r.ms_per_image_mean, "") << ","
         << full(r.ms_per_image_median, "") << "," << csvField(r.peer_timing) << ","
         << full(r.ms_per_image_p90, "") << "\n";
-    json << (i ? "," : "") << "\n    {\"sequence\": " << jstr(r.job.sequence)
-         << ", \"experiment\": " << jstr(r.job.experiment)
-         << ", \"seed\": " << (seed.empty() ? "null" : seed) << ", \"status\": " << jstr(r.status)
-         << ", \"ate_t_m\": " << full(r.ate_t_m, "null")
-         << ", \"ate_r_deg\": " << full(r.ate_r_deg, "null")
-         << ", \"rpe_t_m\": " << full(r.rpe_t_m, "null")
-         << ", \"velocity_rmse_m_s\": " << full(r.velocity_rmse, "null")
-         << ", \"force_total_rmse_m_s2\": " << full(r.force_total_rmse, "null")
-         << ", \"force_external_rmse_m_s2\": " << full(r.force_external_rmse, "null")
-         << ", \"matched\": " << r.matched << ", \"poses\": " << r.poses
-         << ", \"runtime_s\": " << full(r.runtime_s, "null")
-         << ", \"duration_s\": " << full(r.duration_s, "null")
-         << ", \"realtime_factor\": " << full(r.realtime_factor, "null")
-         << ", \"process_wall_s\": " << full(r.process_wall_s, "null") << ", \"stages\": {";
-    for (std::size_t k = 0; k < r.stages.size(); ++k)
-      json << (k ? ", " : "") << jstr(r.stages[k].first) << ": " << full(r.stages[k].second, "null");
-    json << "}, \"result_dir\": " << jstr(r.job.result_dir) << ", \"log\": " << jstr(r.job.log)
-         << ", \"error\": " << jstr(r.error) << ", \"peer\": " << (r.job.peer() ? "true" : "false")
-         << ", \"ms_per_image_mean\": " << full(r.ms_per_image_mean, "null")
-         << ", \"ms_per_image_median\": " << full(r.ms_per_image_median, "null")
-         << ", \"peer_timing\": " << jstr(r.peer_timing)
-         << ", \"ms_per_image_p90\": " << full(r.ms_per_image_p90, "null") << "}";
+    json_runs.push_back(runJson(r));
   }
-  json << "\n  ]\n}\n";
 
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   eval::writeFileAtomically((fs::path(out_dir) / "table.md").string(), t.str());
   eval::writeFileAtomically((fs::path(out_dir) / "results.csv").string(), csv.str());
-  eval::writeFileAtomically((fs::path(out_dir) / "results.json").string(), json.str());
+  const Json json = {{"matrix", matrix.file},
+                     {"alignment", eval::alignmentName(matrix.alignment)},
+                     {"runs", json_runs}};
+  // replace: an error line or path with invalid UTF-8 must not lose the whole report.
+  eval::writeFileAtomically((fs::path(out_dir) / "results.json").string(),
+                            json.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
   return t.str();
 }
 

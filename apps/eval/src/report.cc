@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "hdvio/core/error.h"
 
 namespace hdvio::eval {
@@ -29,31 +31,20 @@ std::string jnum(double x) {
   return buf;
 }
 
-std::string jstr(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-      out += buf;
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
+// ordered_json: metrics.json keeps its key order (tests scan the text after a key).
+using Json = nlohmann::ordered_json;
+
+// A number, or null when there is none (NaN: no samples).
+Json jvalue(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
+
+Json jstats(const ErrorStatistics& s) {
+  return {{"count", s.count},         {"rmse", jvalue(s.rmse)}, {"mean", jvalue(s.mean)},
+          {"median", jvalue(s.median)}, {"std", jvalue(s.std)},   {"min", jvalue(s.min)},
+          {"max", jvalue(s.max)}};
 }
 
-std::string jstats(const ErrorStatistics& s) {
-  std::ostringstream o;
-  o << "{\"count\": " << s.count << ", \"rmse\": " << jnum(s.rmse) << ", \"mean\": " << jnum(s.mean)
-    << ", \"median\": " << jnum(s.median) << ", \"std\": " << jnum(s.std)
-    << ", \"min\": " << jnum(s.min) << ", \"max\": " << jnum(s.max) << "}";
-  return o.str();
-}
-
-std::string jvector(const VectorErrors& e) {
-  return "{\"total\": " + jstats(e.total) + ", \"xy\": " + jstats(e.xy) + ", \"z\": " + jstats(e.z) + "}";
+Json jvector(const VectorErrors& e) {
+  return {{"total", jstats(e.total)}, {"xy", jstats(e.xy)}, {"z", jstats(e.z)}};
 }
 
 std::string rpeLabel(const EvoRpeOptions& o) {
@@ -124,47 +115,53 @@ std::string formatTable(const EvaluationReport& report) {
 
 std::string formatJson(const EvaluationReport& report) {
   const EvaluationOptions& o = report.options;
-  std::ostringstream j;
-  j << "{\n  \"ground_truth\": " << jstr(report.ground_truth_source) << ",\n"
-    << "  \"options\": {\"alignment\": " << jstr(alignmentName(o.alignment))
-    << ", \"align_first_n\": " << o.align_first_n
-    << ", \"association\": " << jstr(associationName(o.association.mode))
-    << ", \"max_time_diff_s\": " << jnum(o.association.max_time_diff_s)
-    << ", \"time_offset_s\": " << jnum(o.association.time_offset_s)
-    << ", \"evo_rpe_delta\": " << jnum(o.evo_rpe_options.delta)
-    << ", \"evo_rpe_unit\": " << jstr(o.evo_rpe_options.unit == DeltaUnit::kMeters ? "m" : "f")
-    << ", \"evo_rpe_all_pairs\": " << (o.evo_rpe_options.all_pairs ? "true" : "false") << "},\n"
-    << "  \"estimates\": [";
+  Json estimates = Json::array();
   for (std::size_t i = 0; i < report.results.size(); ++i) {
     const EstimateResult& r = report.results[i];
-    j << (i ? "," : "") << "\n    {\"name\": " << jstr(r.name) << ", \"index\": " << i
-      << ", \"source\": " << jstr(r.source) << ", \"poses\": " << r.num_poses
-      << ", \"matched\": " << r.num_matched << ",\n     \"alignment\": {\"scale\": " << jnum(r.alignment.s)
-      << ", \"rotation\": [";
-    for (int a = 0; a < 9; ++a) j << (a ? ", " : "") << jnum(r.alignment.R(a / 3, a % 3));
-    j << "], \"translation\": [" << jnum(r.alignment.t.x()) << ", " << jnum(r.alignment.t.y()) << ", "
-      << jnum(r.alignment.t.z()) << "]},\n"
-      << "     \"ate_translation_m\": " << jstats(r.ate_translation) << ",\n"
-      << "     \"ate_rotation_deg\": " << jstats(r.ate_rotation_deg) << ",\n"
-      << "     \"evo_rpe_translation_m\": " << (r.evo_rpe ? jstats(r.evo_rpe_translation) : "null") << ",\n"
-      << "     \"evo_rpe_rotation_deg\": " << (r.evo_rpe ? jstats(r.evo_rpe_rotation_deg) : "null") << ",\n"
-      << "     \"relative_errors\": [";
-    for (std::size_t k = 0; k < r.relative.size(); ++k) {
-      const RelativeErrorSummary& s = r.relative[k];
-      j << (k ? "," : "") << "\n       {\"distance_m\": " << jnum(s.distance)
-        << ", \"translation_m\": " << jstats(s.translation)
-        << ", \"translation_percent\": " << jstats(s.translation_percent)
-        << ", \"rotation_deg\": " << jstats(s.rotation_deg) << ", \"yaw_deg\": " << jstats(s.yaw_deg) << "}";
-    }
-    j << "],\n     \"velocity_m_s\": " << (r.velocity ? jvector(*r.velocity) : "null") << ",\n"
-      << "     \"force_external_m_s2\": " << (r.force ? jvector(r.force->external) : "null") << ",\n"
-      << "     \"force_total_m_s2\": " << (r.force ? jvector(r.force->total) : "null") << ",\n"
-      << "     \"notes\": [";
-    for (std::size_t k = 0; k < r.notes.size(); ++k) j << (k ? ", " : "") << jstr(r.notes[k]);
-    j << "]}";
+    Json rotation = Json::array();
+    for (int a = 0; a < 9; ++a) rotation.push_back(jvalue(r.alignment.R(a / 3, a % 3)));
+    Json relative = Json::array();
+    for (const RelativeErrorSummary& s : r.relative)
+      relative.push_back({{"distance_m", jvalue(s.distance)},
+                          {"translation_m", jstats(s.translation)},
+                          {"translation_percent", jstats(s.translation_percent)},
+                          {"rotation_deg", jstats(s.rotation_deg)},
+                          {"yaw_deg", jstats(s.yaw_deg)}});
+    estimates.push_back(
+        {{"name", r.name},
+         {"index", i},
+         {"source", r.source},
+         {"poses", r.num_poses},
+         {"matched", r.num_matched},
+         {"alignment",
+          {{"scale", jvalue(r.alignment.s)},
+           {"rotation", rotation},
+           {"translation",
+            {jvalue(r.alignment.t.x()), jvalue(r.alignment.t.y()), jvalue(r.alignment.t.z())}}}},
+         {"ate_translation_m", jstats(r.ate_translation)},
+         {"ate_rotation_deg", jstats(r.ate_rotation_deg)},
+         {"evo_rpe_translation_m", r.evo_rpe ? jstats(r.evo_rpe_translation) : Json(nullptr)},
+         {"evo_rpe_rotation_deg", r.evo_rpe ? jstats(r.evo_rpe_rotation_deg) : Json(nullptr)},
+         {"relative_errors", relative},
+         {"velocity_m_s", r.velocity ? jvector(*r.velocity) : Json(nullptr)},
+         {"force_external_m_s2", r.force ? jvector(r.force->external) : Json(nullptr)},
+         {"force_total_m_s2", r.force ? jvector(r.force->total) : Json(nullptr)},
+         {"notes", r.notes}});
   }
-  j << "\n  ]\n}\n";
-  return j.str();
+  const Json j = {
+      {"ground_truth", report.ground_truth_source},
+      {"options",
+       {{"alignment", alignmentName(o.alignment)},
+        {"align_first_n", o.align_first_n},
+        {"association", associationName(o.association.mode)},
+        {"max_time_diff_s", jvalue(o.association.max_time_diff_s)},
+        {"time_offset_s", jvalue(o.association.time_offset_s)},
+        {"evo_rpe_delta", jvalue(o.evo_rpe_options.delta)},
+        {"evo_rpe_unit", o.evo_rpe_options.unit == DeltaUnit::kMeters ? "m" : "f"},
+        {"evo_rpe_all_pairs", o.evo_rpe_options.all_pairs}}},
+      {"estimates", estimates}};
+  // replace: a name or note with invalid UTF-8 must not make the whole report fail.
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 void writeFileAtomically(const std::string& path, const std::string& text) {
