@@ -57,38 +57,6 @@ SlidingWindowSmoother::UpdateResult SlidingWindowSmoother::optimize() {
   return result;
 }
 
-SlidingWindowSmoother::UpdateResult SlidingWindowSmoother::optimizeKeys(const std::set<Key>& free) {
-  UpdateResult result;
-  FactorGraph touching;
-  std::set<Key> involved;
-  for (const auto& [id, f] : factors_) {
-    bool touches = false;
-    for (Key k : f->keys()) touches = touches || free.count(k) > 0;
-    if (!touches) continue;
-    touching.add(f);
-    involved.insert(f->keys().begin(), f->keys().end());
-  }
-  if (touching.empty()) return result;
-  Values trial = values_.subset(std::vector<Key>(involved.begin(), involved.end()));
-  OptimizerOptions optimizer = options_.optimizer;
-  optimizer.constant_keys.clear();
-  for (Key k : involved)
-    if (!free.count(k) || options_.optimizer.constant_keys.count(k)) optimizer.constant_keys.insert(k);
-  // A few free variables: no Schur elimination, one small dense system.
-  optimizer.linear_solver = ceres::DENSE_NORMAL_CHOLESKY;
-  optimizer.eliminate_first.clear();
-  if (trust_region_radius_ > 0.0) optimizer.initial_trust_region_radius = trust_region_radius_;
-  const OptimizeResult solved = hdvio::optimize(touching, &trial, optimizer);
-  result.usable = solved.usable;
-  result.iterations = static_cast<int>(solved.summary.iterations.size());
-  result.final_cost = solved.summary.final_cost;
-  result.solve_time_s = solved.summary.total_time_in_seconds;
-  if (result.usable)
-    for (Key k : free)
-      if (trial.exists(k)) values_.update(k, Eigen::Map<const Eigen::VectorXd>(trial.data(k), trial.ambientDim(k)));
-  return result;
-}
-
 void SlidingWindowSmoother::marginalize(const std::set<Key>& keys) {
   if (keys.empty()) return;
   FactorGraph involved;

@@ -8,7 +8,6 @@
 #include "hdvio/core/thread_clock.h"
 #include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
-#include "hdvio/factors/inverse_depth_reprojection_factor.h"
 #include "hdvio/factors/prior_factors.h"
 #include "hdvio/factors/reprojection_factor.h"
 
@@ -28,7 +27,6 @@ SmootherOptions smootherOptions(const VioBackendOptions& o) {
                               : o.linear_solver == "sparse_schur" ? ceres::SPARSE_SCHUR
                                                                   : ceres::SPARSE_NORMAL_CHOLESKY;
   if (o.landmarks_first) s.optimizer.eliminate_first = {L(0).letter()};
-  if (o.optimizer == "schur_lm") s.optimizer.optimizer = OptimizerOptions::Optimizer::kSchurLm;
   s.optimizer.function_tolerance = o.function_tolerance;
   s.optimizer.initial_trust_region_radius = o.initial_trust_region_radius;
   if (o.trust_region_warm_start) {
@@ -144,16 +142,9 @@ NavState VioBackend::latestState() const {
 std::optional<Vec3> VioBackend::landmarkPosition(int landmark_id) const {
   const auto it = tracks_.find(landmark_id);
   if (it == tracks_.end()) return std::nullopt;
-  return landmarkPosition(landmark_id, it->second);
-}
-
-std::optional<Vec3> VioBackend::landmarkPosition(int landmark_id, const Track& track) const {
   const Values& est = smoother_.estimate();
-  if (!track.in_graph || !est.exists(L(landmark_id))) return std::nullopt;
-  if (!inverseDepth()) return est.vec3(L(landmark_id));
-  const Vec3 lambda = est.vec3(L(landmark_id));
-  if (!(lambda.z() > 0.0)) return std::nullopt;
-  return inverseDepthWorldPoint(est.pose(X(track.anchor)), T_BC_, lambda);
+  if (!it->second.in_graph || !est.exists(L(landmark_id))) return std::nullopt;
+  return est.vec3(L(landmark_id));
 }
 
 std::vector<NavState> VioBackend::windowStates() const {
@@ -239,19 +230,9 @@ FrameResult VioBackend::addFrame(const FrameObservations& frame) {
   states_.back().keyframe = isKeyframe(k);
   if (states_.back().keyframe) last_keyframe_ = k;
 
-  SlidingWindowSmoother::UpdateResult solved;
-  result.window_solved = options_.window_solve == "every_frame" || states_.back().keyframe;
-  if (result.window_solved) {
-    solved = smoother_.optimize();
-    result.outliers_removed = rejectOutliers();
-    if (result.outliers_removed > 0) solved = smoother_.optimize();
-  } else {
-    // Between keyframes only the new state moves (landmarks and older states held): its
-    // observations stay in the graph for the next window solve, which also rejects outliers.
-    std::set<Key> newest{X(k), V(k), B(k)};
-    if (smoother_.estimate().exists(F(k))) newest.insert(F(k));
-    solved = smoother_.optimizeKeys(newest);
-  }
+  auto solved = smoother_.optimize();
+  result.outliers_removed = rejectOutliers();
+  if (result.outliers_removed > 0) solved = smoother_.optimize();
   result.solver_iterations = solved.iterations;
   result.solve_time_s = solved.solve_time_s;
   const double window_start = threadCpuSeconds();
@@ -275,7 +256,7 @@ void VioBackend::addVisualFactors(std::uint64_t k, const FrameObservations& fram
     Track& track = tracks_[f.landmark_id];
     track.obs[k] = f;
     if (track.in_graph) {
-      graph.add(reprojectionFactor(k, f, track));
+      graph.add(reprojectionFactor(k, f));
       ids.push_back(f.landmark_id);
     } else {
       pending.push_back(f.landmark_id);
@@ -317,18 +298,11 @@ bool VioBackend::tryTriangulate(int id, Track* track) {
 bool VioBackend::insertLandmark(int id, const Vec3& p_W, Track* track) {
   if (track->obs.empty()) return false;
   Values values;
-  if (inverseDepth()) {
-    track->anchor = track->obs.begin()->first;
-    const Vec3 p_Ca = cameraPose(track->anchor).inverse() * p_W;
-    if (!(p_Ca.z() > CameraModel::kMinDepth) || !p_Ca.allFinite()) return false;
-    values.insertVector(L(id), inverseDepthFromAnchorPoint(p_Ca));
-  } else {
-    values.insertVector(L(id), p_W);
-  }
+  values.insertVector(L(id), p_W);
   FactorGraph graph;
   std::vector<std::uint64_t> order;
   for (const auto& [index, o] : track->obs) {
-    graph.add(reprojectionFactor(index, o, *track));
+    graph.add(reprojectionFactor(index, o));
     order.push_back(index);
   }
   const auto added = smoother_.update(graph, values, {}, /*optimize=*/false);
@@ -338,18 +312,10 @@ bool VioBackend::insertLandmark(int id, const Vec3& p_W, Track* track) {
   return true;
 }
 
-FactorPtr VioBackend::reprojectionFactor(std::uint64_t index, const FeatureObservation& obs,
-                                         const Track& track) const {
-  const double scale = std::pow(options_.level_sigma_factor, obs.level);
-  NoiseModelPtr noise = pixelNoise(options_.pixel_sigma * scale, options_.robust_loss,
-                                   options_.robust_width_px * scale);
-  if (inverseDepth() && index == track.anchor)
-    return std::make_shared<InverseDepthAnchorFactor>(L(obs.landmark_id), obs.uv, camera_, noise);
-  if (inverseDepth())
-    return std::make_shared<InverseDepthReprojectionFactor>(
-        X(track.anchor), X(index), L(obs.landmark_id), obs.uv, camera_, T_BC_, noise);
-  return std::make_shared<ReprojectionFactor>(X(index), L(obs.landmark_id), obs.uv, camera_, T_BC_,
-                                              noise);
+FactorPtr VioBackend::reprojectionFactor(std::uint64_t index, const FeatureObservation& obs) const {
+  return std::make_shared<ReprojectionFactor>(
+      X(index), L(obs.landmark_id), obs.uv, camera_, T_BC_,
+      pixelNoise(options_.pixel_sigma, options_.robust_loss, options_.robust_width_px));
 }
 
 bool VioBackend::isKeyframe(std::uint64_t k) const {
@@ -378,7 +344,6 @@ int VioBackend::rejectOutliers() {
     for (auto it = track.factors.begin(); it != track.factors.end();) {
       Eigen::VectorXd r;
       const bool ok = smoother_.factor(it->second)->whitenedError(smoother_.estimate(), &r);
-      // In sigmas: a level-L observation is dropped at outlier_threshold_px * level_sigma_factor^L.
       if (!ok || r.norm() * options_.pixel_sigma > options_.outlier_threshold_px) {
         drop.push_back(it->second);
         track.obs.erase(it->first);
@@ -389,9 +354,6 @@ int VioBackend::rejectOutliers() {
     }
     removed += static_cast<int>(drop.size());
     smoother_.removeFactors(drop);
-    // The other observations are relative to the anchor pose: re-anchor without its own.
-    if (inverseDepth() && track.in_graph && !track.obs.count(track.anchor))
-      reanchor(id, track.anchor, &track);
     if (static_cast<int>(track.factors.size()) < options_.min_observations) {
       dead_landmarks.insert(L(id));
       track.factors.clear();
@@ -417,19 +379,6 @@ void VioBackend::maintainWindow() {
   };
   while (old_keyframes() > options_.num_keyframes)
     marginalizeState(states_.front().index, /*keep_landmark_information=*/true);
-}
-
-void VioBackend::reanchor(int id, std::uint64_t leaving, Track* track) {
-  // The landmark stays and its anchor leaves: restart it from its current world point in its
-  // next observation. Its factors are dropped, not marginalized, as for any staying landmark,
-  // so no prior holds L(id) and it can be removed and inserted again.
-  const std::optional<Vec3> p_W = landmarkPosition(id, *track);
-  track->obs.erase(leaving);
-  smoother_.removeVariables({L(id)});
-  track->factors.clear();
-  track->in_graph = false;
-  if (p_W && static_cast<int>(track->obs.size()) >= options_.min_observations)
-    insertLandmark(id, *p_W, track);
 }
 
 void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_information) {
@@ -468,15 +417,11 @@ void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_inform
       it = tracks_.erase(it);
       continue;
     }
-    if (track.in_graph && inverseDepth() && track.anchor == index) {
-      reanchor(it->first, index, &track);
-    } else {
-      track.obs.erase(index);
-      const auto f = track.factors.find(index);
-      if (f != track.factors.end()) {
-        smoother_.removeFactors({f->second});
-        track.factors.erase(f);
-      }
+    track.obs.erase(index);
+    const auto f = track.factors.find(index);
+    if (f != track.factors.end()) {
+      smoother_.removeFactors({f->second});
+      track.factors.erase(f);
     }
     if (track.in_graph && static_cast<int>(track.factors.size()) < options_.min_observations) {
       dead_landmarks.insert(L(it->first));

@@ -60,20 +60,15 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   c.readInRange("keyframe_parallax_px", &o.keyframe_parallax_px, 0.0, 1000.0);
   c.readInRange("keyframe_min_tracked_ratio", &o.keyframe_min_tracked_ratio, 0.0, 1.0);
   c.readInRange("pixel_sigma", &o.pixel_sigma, 1e-3, 100.0);
-  c.readInRange("level_sigma_factor", &o.level_sigma_factor, 1.0, 4.0);
   std::string loss = "huber";
-  c.readChoice("robust_loss", &loss, {"none", "huber", "cauchy"});
-  o.robust_loss = loss == "none" ? RobustLoss::kNone
-                  : loss == "huber" ? RobustLoss::kHuber : RobustLoss::kCauchy;
+  c.readChoice("robust_loss", &loss, {"none", "huber"});
+  o.robust_loss = loss == "none" ? RobustLoss::kNone : RobustLoss::kHuber;
   c.readInRange("robust_width_px", &o.robust_width_px, 1e-3, 100.0);
   c.readInRange("outlier_threshold_px", &o.outlier_threshold_px, 0.1, 1000.0);
   c.readInRange("min_triangulation_angle_deg", &o.min_triangulation_angle_deg, 0.0, 45.0);
   c.readInRange("max_landmarks", &o.max_landmarks, 1, 100000);
   c.readChoice("landmark_marginalization", &o.landmark_marginalization,
                {"all", "keyframes", "untracked"});
-  c.readChoice("landmark_parameterization", &o.landmark_parameterization,
-               {"world_point", "inverse_depth"});
-  c.readChoice("window_solve", &o.window_solve, {"every_frame", "keyframes"});
   c.readInRange("max_iterations", &o.max_iterations, 1, 1000);
   c.readInRange("function_tolerance", &o.function_tolerance, 1e-12, 1e-1);
   c.readInRange("initial_trust_region_radius", &o.initial_trust_region_radius, 1e-3, 1e16);
@@ -83,7 +78,6 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
     throw InputError(c.file(), 0,
                      "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +
                          "max_trust_region_radius': must be >= initial_trust_region_radius");
-  c.readChoice("optimizer", &o.optimizer, {"ceres", "schur_lm"});
   c.readChoice("linear_solver", &o.linear_solver,
                {"dense_schur", "sparse_schur", "sparse_normal_cholesky"});
   c.readOptional("landmarks_first", &o.landmarks_first);

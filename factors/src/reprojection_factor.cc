@@ -11,7 +11,6 @@ NoiseModelPtr pixelNoise(double sigma_px, RobustLoss loss, double loss_width_px)
   switch (loss) {
     case RobustLoss::kNone: return base;
     case RobustLoss::kHuber: return base->robust(std::make_shared<ceres::HuberLoss>(width));
-    case RobustLoss::kCauchy: return base->robust(std::make_shared<ceres::CauchyLoss>(width));
   }
   return base;
 }

@@ -48,13 +48,6 @@ double computeTau(const Pose& T_ref_cur, const Vec3& f, double z, double px_erro
 std::vector<int> DepthFilter::addKeyframe(const FramePtr& keyframe,
                                           const std::vector<Feature>& features,
                                           double depth_mean, double depth_min) {
-  return addKeyframe(keyframe, features, std::vector<double>(features.size(), depth_mean), depth_min);
-}
-
-std::vector<int> DepthFilter::addKeyframe(const FramePtr& keyframe,
-                                          const std::vector<Feature>& features,
-                                          const std::vector<double>& depth_means,
-                                          double depth_min) {
   for (Seed& s : seeds_) ++s.keyframe_age;
   seeds_.erase(std::remove_if(seeds_.begin(), seeds_.end(),
                               [&](const Seed& s) {
@@ -63,12 +56,12 @@ std::vector<int> DepthFilter::addKeyframe(const FramePtr& keyframe,
                               }),
                seeds_.end());
   std::vector<int> ids;
-  for (std::size_t i = 0; i < features.size(); ++i) {
+  for (const Feature& ftr : features) {
     Seed s;
     s.id = next_seed_id_++;
     s.keyframe = keyframe;
-    s.feature = features[i];
-    s.mu = 1.0 / depth_means[i];
+    s.feature = ftr;
+    s.mu = 1.0 / depth_mean;
     s.z_range = 1.0 / depth_min;
     s.sigma2 = s.z_range * s.z_range / 36.0;
     seeds_.push_back(s);

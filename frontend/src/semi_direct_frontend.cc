@@ -5,7 +5,6 @@
 
 #include "hdvio/core/error.h"
 #include "hdvio/core/thread_clock.h"
-#include "hdvio/frontend/depth_hints.h"
 #include "hdvio/frontend/keyframe_selection.h"
 #include "hdvio/frontend/pose_optimizer.h"
 #include "hdvio/frontend/reprojector.h"
@@ -210,24 +209,18 @@ bool SemiDirectFrontend::initialize(const FramePtr& frame, const TrackingPrior& 
     return false;
   }
   frame->features.clear();
-  std::vector<Vec2> corner_px;
-  for (const Corner& c : corners) {
-    frame->features.push_back({c.px, camera_.unproject(c.px), c.level, -1});
-    corner_px.push_back(c.px);
-  }
+  for (const Corner& c : corners) frame->features.push_back({c.px, camera_.unproject(c.px), c.level, -1});
   frame->is_keyframe = true;
   map_.keyframes.push_back(frame);
-  // A hint counts within about a detector cell of the corner.
-  const std::vector<double> depths =
-      hintedDepths(camera_, frame->T_cw, corner_px, prior.map_points_W, options_.detector.cell_size,
-                   options_.init_depth, options_.init_min_depth);
+  // Every corner starts at init_depth, never closer than init_min_depth.
+  const double depth = std::max(options_.init_depth, options_.init_min_depth);
   const std::vector<int> seed_ids =
-      depth_filter_.addKeyframe(frame, frame->features, depths, options_.init_min_depth);
+      depth_filter_.addKeyframe(frame, frame->features, depth, options_.init_min_depth);
   const Pose T_wc = frame->T_cw.inverse();
   KeyframeBundle bundle;
   for (std::size_t i = 0; i < frame->features.size(); ++i) {
     Feature& ftr = frame->features[i];
-    LandmarkPtr lm = map_.addLandmark(T_wc * (ftr.f * depths[i]), /*converged=*/false);
+    LandmarkPtr lm = map_.addLandmark(T_wc * (ftr.f * depth), /*converged=*/false);
     lm->observations.push_back({frame, static_cast<int>(i)});
     ftr.landmark_id = lm->id;
     depth_filter_.attachLandmark(seed_ids[i], lm->id);

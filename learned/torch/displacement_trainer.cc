@@ -90,14 +90,7 @@ std::pair<torch::Tensor, torch::Tensor> DisplacementTrainer::augment(const Displ
     force = torch::matmul(dR, force);
     gyro = torch::matmul(dR, gyro);
   }
-  torch::Tensor target = set.targets.index_select(0, idx);  // B x 3
-  if (options_.yaw_augmentation) {
-    const torch::Tensor yaw = torch::rand({b, 1}) * (2.0 * M_PI);
-    const torch::Tensor Rz = expBatch(torch::cat({torch::zeros({b, 2}), yaw}, 1));  // B x 3 x 3
-    force = torch::matmul(Rz, force);
-    gyro = torch::matmul(Rz, gyro);
-    target = torch::matmul(Rz, target.unsqueeze(-1)).squeeze(-1);
-  }
+  const torch::Tensor target = set.targets.index_select(0, idx);  // B x 3
   return {torch::cat({force, gyro}, 1), target};
 }
 

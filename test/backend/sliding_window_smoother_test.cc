@@ -169,40 +169,5 @@ TEST(SlidingWindowSmoother, WarmStartCarriesTheTrustRegionWithinItsBounds) {
   }
 }
 
-// optimizeKeys moves only the free keys, and to where a full solve with every other key held
-// constant takes them; factors not touching them are left out, keys outside the factors untouched.
-TEST(SlidingWindowSmoother, OptimizeKeysSolvesTheFreeKeysAgainstTheRestHeld) {
-  std::mt19937 rng(24);
-  const int n = 10;
-  const Problem p = makeProblem(n, rng);
-  SmootherOptions so;
-  so.optimizer.max_iterations = 30;
-  SlidingWindowSmoother smoother(so);
-  FactorGraph all;
-  for (int k = 0; k < n; ++k) {
-    Values v;
-    v.insertPose(X(k), p.initial[k]);
-    smoother.update(p.factors_at[k], v, {}, /*optimize=*/k + 1 < n);
-    all.add(p.factors_at[k]);
-  }
-  // The newest pose is still at its odometry guess; move it a metre away.
-  smoother.mutableEstimate().updatePose(X(n - 1), p.initial[n - 1].plus((Vec6() << 1, 0, 0, 0, 0, 0.1).finished()));
-  const Values before = smoother.estimate();
-  Values expected = before;
-  OptimizerOptions held = so.optimizer;
-  for (int k = 0; k + 1 < n; ++k) held.constant_keys.insert(X(k));
-  ASSERT_TRUE(optimize(all, &expected, held).usable);
-
-  const auto r = smoother.optimizeKeys({X(n - 1)});
-  ASSERT_TRUE(r.usable);
-  EXPECT_GT(r.iterations, 0);
-  for (int k = 0; k + 1 < n; ++k)
-    EXPECT_EQ(smoother.estimate().minus(X(k), before).norm(), 0.0) << k;
-  const Eigen::VectorXd moved = smoother.estimate().minus(X(n - 1), before);
-  EXPECT_GT(moved.norm(), 0.5);
-  EXPECT_LT(smoother.estimate().minus(X(n - 1), expected).norm(), 1e-6);
-  EXPECT_EQ(smoother.trustRegionRadius(), 0.0);  // no warm start configured, nothing carried
-}
-
 }  // namespace
 }  // namespace hdvio

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <random>
 
 #include "hdvio/core/config.h"
 #include "hdvio/sim/simulator.h"
@@ -90,97 +89,6 @@ TEST(VioBackend, TracksSimulatedFlightFromGroundTruthInit) {
   EXPECT_LT(e.yaw_free_rotation_deg, 1.0);
 }
 
-// hdvio's own Schur-complement Levenberg-Marquardt (backend.optimizer: schur_lm) in place of
-// ceres::Solve: the same accuracy on the same flight, with world points and with inverse-depth
-// landmarks (three keys per factor, one eliminated), and in the hybrid-dynamics mode.
-TEST(VioBackend, OwnSchurSolverTracksTheFlightAsCeresDoes) {
-  const Sequence& seq = flight().sequence;
-  const VioRunOptions run = truthStartHalfPixelNoise();
-  for (const VioMethod method : {VioMethod::kVio, VioMethod::kVid})
-    for (const char* landmarks : {"world_point", "inverse_depth"}) {
-      VioBackendOptions options = defaultVioBackendOptions(method);
-      options.landmark_parameterization = landmarks;
-      const auto ceres_out = runVioOnTracks(seq, options, run);
-      options.optimizer = "schur_lm";
-      const auto own = runVioOnTracks(seq, options, run);
-      ASSERT_EQ(own.states.size(), ceres_out.states.size());
-      const Errors e = errorsAgainstTruth(seq, own.states);
-      const Errors c = errorsAgainstTruth(seq, ceres_out.states);
-      std::printf("%s, schur_lm: position rmse %.4f m (ceres %.4f), velocity rmse %.4f m/s (ceres "
-                  "%.4f), %.2f vs %.2f ms/frame\n", landmarks, e.position_rmse, c.position_rmse,
-                  e.velocity_rmse, c.velocity_rmse, 1e3 * own.backend_time_s / own.states.size(),
-                  1e3 * ceres_out.backend_time_s / ceres_out.states.size());
-      EXPECT_LT(e.position_rmse, 0.05) << landmarks;
-      EXPECT_LT(e.velocity_rmse, 0.05) << landmarks;
-      EXPECT_LT(e.yaw_free_rotation_deg, 1.0) << landmarks;
-      EXPECT_LT(e.position_rmse, 1.25 * c.position_rmse + 0.005) << landmarks;
-    }
-}
-
-// Landmarks anchored in their first observation with inverse depth follow the flight as well as
-// world points and keep as many landmarks in the window. With the "untracked" rule a landmark
-// still tracked when its anchor keyframe leaves stays: it must be re-anchored in its next
-// observation, not lost.
-TEST(VioBackend, InverseDepthLandmarksTrackTheFlightAndSurviveTheirAnchor) {
-  const Sequence& seq = flight().sequence;
-  const VioRunOptions run = truthStartHalfPixelNoise();
-  const auto meanLandmarks = [](const VioRunOutput& out) {
-    double sum = 0.0;
-    for (const auto& f : out.frames) sum += f.landmarks_in_window;
-    return sum / std::max<std::size_t>(out.frames.size(), 1);
-  };
-  for (const char* rule : {"keyframes", "untracked"}) {
-    VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
-    options.landmark_marginalization = rule;
-    const auto world = runVioOnTracks(seq, options, run);
-    options.landmark_parameterization = "inverse_depth";
-    const auto inverse = runVioOnTracks(seq, options, run);
-    ASSERT_GT(inverse.states.size(), 70u);
-    const Errors e = errorsAgainstTruth(seq, inverse.states);
-    const Errors w = errorsAgainstTruth(seq, world.states);
-    std::printf("%s, inverse depth: position rmse %.4f m (world points %.4f), velocity rmse "
-                "%.4f m/s, max rot %.3f deg, %.1f landmarks per window (world points %.1f)\n",
-                rule, e.position_rmse, w.position_rmse, e.velocity_rmse, e.yaw_free_rotation_deg,
-                meanLandmarks(inverse), meanLandmarks(world));
-    EXPECT_LT(e.position_rmse, 0.05) << rule;
-    EXPECT_LT(e.velocity_rmse, 0.05) << rule;
-    EXPECT_LT(e.yaw_free_rotation_deg, 1.0) << rule;
-    EXPECT_GT(meanLandmarks(inverse), 0.9 * meanLandmarks(world)) << rule;
-  }
-}
-
-// window_solve: keyframes optimizes the window only on keyframes; the frames between move only
-// their own state (motion-only) and must still follow the flight, with fewer window solves.
-TEST(VioBackend, KeyframeWindowSolvesTrackTheFlightWithMotionOnlyFramesBetween) {
-  const Sequence& seq = flight().sequence;
-  const VioRunOptions run = truthStartHalfPixelNoise();
-  VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
-  options.window_solve = "keyframes";
-  options.keyframe_parallax_px = 25.0;  // at 12 px nearly every frame of this flight is one
-  const auto out = runVioOnTracks(seq, options, run);
-  ASSERT_GT(out.states.size(), 70u);
-  int window_solves = 0, frames = 0;
-  for (std::size_t i = 1; i < out.frames.size(); ++i) {  // frame 0 is the start, not a solve
-    const FrameResult& f = out.frames[i];
-    if (!f.processed) continue;
-    ++frames;
-    EXPECT_EQ(f.window_solved, f.keyframe);
-    window_solves += f.window_solved ? 1 : 0;
-    if (!f.window_solved) {
-      EXPECT_EQ(f.outliers_removed, 0);
-    }
-  }
-  const Errors e = errorsAgainstTruth(seq, out.states);
-  std::printf("vio, window solves on keyframes only (%d of %d frames): position rmse %.4f m, "
-              "velocity rmse %.4f m/s, max rot %.3f deg\n", window_solves, frames,
-              e.position_rmse, e.velocity_rmse, e.yaw_free_rotation_deg);
-  EXPECT_LT(window_solves, frames * 3 / 4);
-  EXPECT_GT(window_solves, 0);
-  EXPECT_LT(e.position_rmse, 0.05);
-  EXPECT_LT(e.velocity_rmse, 0.05);
-  EXPECT_LT(e.yaw_free_rotation_deg, 1.0);
-}
-
 // The landmark budget bounds the window (and so the per-frame cost) without losing the
 // trajectory; every processed frame reports its own CPU time.
 TEST(VioBackend, LandmarkBudgetBoundsTheWindow) {
@@ -201,36 +109,6 @@ TEST(VioBackend, LandmarkBudgetBoundsTheWindow) {
   const Errors e = errorsAgainstTruth(seq, out.states);
   std::printf("vio, 40 landmarks: position rmse %.4f m\n", e.position_rmse);
   EXPECT_LT(e.position_rmse, 0.08);
-}
-
-// A frontend measures a feature on a coarse pyramid level with a coarser pixel: half the
-// landmarks here are "level 2" with 4x the noise. Weighting each observation by its level
-// (level_sigma_factor 2, the noise's true ratio) must estimate the flight better than weighting
-// every observation alike, on average over noise draws (one draw can go either way).
-TEST(VioBackend, CoarseLevelObservationsWeighLess) {
-  const Sequence& seq = flight().sequence;
-  VioRunOptions run;
-  run.init_from_groundtruth = true;
-  double alike = 0.0, weighted = 0.0;
-  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
-    std::vector<FrameObservations> frames = framesFromTracks(seq, 0.0, 1);
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> noise(0.0, 1.0);
-    for (auto& frame : frames)
-      for (auto& f : frame.features) {
-        f.level = f.landmark_id % 2 == 0 ? 2 : 0;
-        f.uv += 0.5 * (1 << f.level) * Vec2(noise(rng), noise(rng));
-      }
-    VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
-    options.pixel_sigma = 0.5;  // the level-0 noise
-    const double a = errorsAgainstTruth(seq, runVioOnFrames(seq, frames, options, run).states).position_rmse;
-    options.level_sigma_factor = 2.0;
-    const double w = errorsAgainstTruth(seq, runVioOnFrames(seq, frames, options, run).states).position_rmse;
-    std::printf("seed %u: position rmse %.4f m alike, %.4f m weighted by level\n", seed, a, w);
-    alike += a / 3.0;
-    weighted += w / 3.0;
-  }
-  EXPECT_LT(weighted, 0.7 * alike);
 }
 
 TEST(VioBackend, StaticInitializationOnHoverStart) {

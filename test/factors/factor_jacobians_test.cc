@@ -5,7 +5,6 @@
 
 #include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
-#include "hdvio/factors/inverse_depth_reprojection_factor.h"
 #include "hdvio/factors/prior_factors.h"
 #include "hdvio/factors/relative_position_factor.h"
 #include "hdvio/factors/reprojection_factor.h"
@@ -104,87 +103,6 @@ TEST_P(ReprojectionJacobians, MatchNumerical) {
 INSTANTIATE_TEST_SUITE_P(AllModels, ReprojectionJacobians,
                          ::testing::Values(DistortionModel::kNone, DistortionModel::kRadialTangential,
                                            DistortionModel::kEquidistant));
-
-// An anchored inverse-depth landmark seen from a second pose and from its anchor: Jacobians, and
-// the same residuals as the world-point factor on the same point (one measurement, two
-// parameterizations).
-class InverseDepthJacobians : public ::testing::TestWithParam<DistortionModel> {};
-
-TEST_P(InverseDepthJacobians, MatchNumericalAndTheWorldPointFactor) {
-  const DistortionModel model = GetParam();
-  std::vector<double> k;
-  if (model == DistortionModel::kRadialTangential) k = {-0.28, 0.07, 2e-4, -3e-4};
-  if (model == DistortionModel::kEquidistant) k = {-0.01, 0.02, -0.01, 0.003};
-  const CameraModel cam(752, 480, 458.0, 457.0, 367.0, 248.0, model, k);
-  std::mt19937 rng(41 + static_cast<int>(model));
-  for (int trial = 0; trial < kTrials; ++trial) {
-    const Pose T_WBa = randomPose(rng);
-    const Pose T_BC(quatExp(randomVec3(rng, 0.5)), randomVec3(rng, 0.1));
-    // The second pose 0.5 m and 0.2 rad from the anchor, so the point stays in front of both.
-    const Pose T_WBk = T_WBa * Pose(quatExp(randomVec3(rng, 0.2)), randomVec3(rng, 0.5));
-    std::uniform_real_distribution<double> u(-0.5, 0.5), depth(2.0, 8.0);
-    const double z = depth(rng);
-    const Vec3 l_Ca(u(rng) * z, u(rng) * z, z);
-    const Vec3 lambda = inverseDepthFromAnchorPoint(l_Ca);
-    Values v;
-    v.insertPose(X(0), T_WBa);
-    v.insertPose(X(1), T_WBk);
-    v.insertVector(L(0), lambda);
-    const Vec2 z_uv = Vec2(370.0, 250.0) + randomVec3(rng, 5.0).head<2>();
-    InverseDepthReprojectionFactor f(X(0), X(1), L(0), z_uv, cam, T_BC,
-                                     pixelNoise(1.5, RobustLoss::kHuber, 2.0));
-    InverseDepthAnchorFactor a(L(0), z_uv, cam, pixelNoise(1.5));
-    test::expectJacobiansMatchNumerical(f, v, 1e-6);
-    test::expectJacobiansMatchNumerical(a, v, 1e-6);
-
-    Values w;
-    w.insertPose(X(0), T_WBa);
-    w.insertPose(X(1), T_WBk);
-    w.insertVector(L(1), inverseDepthWorldPoint(T_WBa, T_BC, lambda));
-    EXPECT_LT((w.vec3(L(1)) - T_WBa * (T_BC * l_Ca)).norm(), 1e-12);
-    const ReprojectionFactor g(X(1), L(1), z_uv, cam, T_BC, pixelNoise(1.5));
-    const ReprojectionFactor g_anchor(X(0), L(1), z_uv, cam, T_BC, pixelNoise(1.5));
-    Eigen::VectorXd r_f, r_g;
-    ASSERT_TRUE(f.whitenedError(v, &r_f));
-    ASSERT_TRUE(g.whitenedError(w, &r_g));
-    EXPECT_LT((r_f - r_g).norm(), 1e-9);
-    ASSERT_TRUE(a.whitenedError(v, &r_f));
-    ASSERT_TRUE(g_anchor.whitenedError(w, &r_g));
-    EXPECT_LT((r_f - r_g).norm(), 1e-9);
-  }
-}
-
-INSTANTIATE_TEST_SUITE_P(AllModels, InverseDepthJacobians,
-                         ::testing::Values(DistortionModel::kNone, DistortionModel::kRadialTangential,
-                                           DistortionModel::kEquidistant));
-
-// A point 10 km away (rho -> 0 is the limit) still constrains the relative rotation and hardly
-// the translation; a non-positive rho and a point behind the second camera are invalid.
-TEST(InverseDepthReprojectionFactor, FarPointsConstrainRotationAndBadDepthsAreInvalid) {
-  const CameraModel cam(752, 480, 458.0, 457.0, 367.0, 248.0);
-  const Pose T_BC;
-  const Pose T_WBk(quatExp(Vec3(0.0, 0.02, 0.0)), Vec3(0.3, 0.0, 0.0));
-  Values v;
-  v.insertPose(X(0), Pose());
-  v.insertPose(X(1), T_WBk);
-  v.insertVector(L(0), Vec3(0.1, -0.05, 1e-4));
-  InverseDepthReprojectionFactor f(X(0), X(1), L(0), Vec2(400, 230), cam, T_BC, pixelNoise(1.0));
-  Eigen::VectorXd r0, r;
-  ASSERT_TRUE(f.whitenedError(v, &r0));
-  EXPECT_TRUE(r0.allFinite());
-  test::expectJacobiansMatchNumerical(f, v, 1e-6);
-  v.updatePose(X(1), T_WBk * Pose(quatExp(Vec3(0.0, 0.01, 0.0)), Vec3::Zero()));
-  ASSERT_TRUE(f.whitenedError(v, &r));
-  EXPECT_GT((r - r0).norm(), 3.0);  // 0.01 rad is ~4.6 px
-  v.updatePose(X(1), Pose(T_WBk.q, T_WBk.p + Vec3(0.0, 0.1, 0.0)));
-  ASSERT_TRUE(f.whitenedError(v, &r));
-  EXPECT_LT((r - r0).norm(), 0.01);  // 10 cm at 10 km is ~0.005 px
-  v.update(L(0), Vec3(0.1, -0.05, 0.0));
-  EXPECT_FALSE(f.whitenedError(v, &r));
-  v.update(L(0), Vec3(0.1, -0.05, 0.5));  // 2 m ahead of the anchor,
-  v.updatePose(X(1), Pose(quatExp(Vec3(0.0, M_PI, 0.0)), Vec3::Zero()));  // camera k looks away
-  EXPECT_FALSE(f.whitenedError(v, &r));
-}
 
 TEST(ReprojectionFactor, PointBehindCameraIsInvalid) {
   const CameraModel cam(752, 480, 458.0, 457.0, 367.0, 248.0);

@@ -59,7 +59,6 @@ VisualFrontendConfig loadVisualFrontendConfig(const ConfigReader& r) {
                                   : ObservationSource::kAuto;
   r.readOptional("backend_pose_prior", &c.backend_pose_prior);
   r.readOptional("backend_feedback", &c.backend_feedback);
-  r.readOptional("backend_depth_hints", &c.backend_depth_hints);
   r.readInRange("min_features_for_backend", &c.min_features_for_backend, 0, 100000);
 
   frontend::FrontendOptions& o = c.options;

@@ -1,6 +1,7 @@
 // hdvio_train_displacement: trains the IMO (thrust + gyro) or TLIO-style (accelerometer +
 // gyro) displacement network with libtorch and writes a version-2 weight file
-// (task displacement, output_sigma = per-axis RMSE on the held-out blocks). With
+// (task displacement, output_sigma = per-axis RMSE on the held-out blocks or flights). With
+// data.validation flights the epoch is chosen on them (as the IMO release does on `val`). With
 // data.cross_validation_folds, --fold k trains fold k (early stopping on its block, history.csv
 // and epoch checkpoints for scripts/imo_cv_select.py) and --epochs N --output_sigma x,y,z the
 // final network on the whole flights. --benchmark_batches measures training throughput.
@@ -68,7 +69,6 @@ learned::DisplacementTrainOptions readTraining(const ConfigReader& t) {
   t.readInRange("orientation_sigma_deg", &o.orientation_sigma_deg, 0.0, 45.0);
   t.readInRange("gyro_bias_range", &o.gyro_bias_range, 0.0, 1.0);
   t.readInRange("accel_bias_range", &o.accel_bias_range, 0.0, 10.0);
-  t.readOptional("yaw_augmentation", &o.yaw_augmentation);
   t.finish();
   return o;
 }
@@ -79,8 +79,10 @@ int run() {
   }
   const ConfigReader config = ConfigReader::fromFile(FLAGS_config);
   const ConfigReader data = config.section("data");
-  std::vector<std::string> train_paths;
+  std::vector<std::string> train_paths, validation_paths;
   data.read("train", &train_paths);
+  // Validation flights (the release's `val`): the epoch is chosen on them, all of train trains.
+  data.readOptional("validation", &validation_paths);
   double block_seconds = 5.0, thrust_coefficient = 0.0, mass = 0.0, gap_seconds = 1.0;
   int validation_every = 6, folds = 0;
   data.readInRange("validation_block_seconds", &block_seconds, 0.5, 1000.0);
@@ -102,6 +104,8 @@ int run() {
   if (FLAGS_fold >= 0 && (folds < 2 || FLAGS_fold >= folds))
     throw InputError(FLAGS_config, 0, "--fold " + std::to_string(FLAGS_fold) + " needs data.cross_validation_folds > it");
   if (FLAGS_fold >= 0 && FLAGS_epochs > 0) throw InputError("", 0, "--fold and --epochs exclude each other");
+  if (!validation_paths.empty() && (FLAGS_fold >= 0 || FLAGS_epochs > 0 || folds > 0))
+    throw InputError(FLAGS_config, 0, "data.validation excludes --fold, --epochs and data.cross_validation_folds");
   std::array<double, 3> fixed_sigma{};
   if (FLAGS_epochs > 0) {
     char rest = 0;
@@ -123,13 +127,13 @@ int run() {
   source.thrust_coefficient = thrust_coefficient;
   source.mass = mass;
   source.rate_hz = arch.sample_rate_hz;
-  // Held out: fold k's contiguous block of each flight, or every validation_every-th block;
-  // with --epochs nothing.
+  // Held out: the data.validation flights, fold k's contiguous block of each flight, or every
+  // validation_every-th block; with --epochs nothing.
   std::vector<learned::FlightSamples> train_flights, validation_flights;
   for (std::size_t i = 0; i < train_paths.size(); ++i) {
     const std::string& p = train_paths[i];
     const learned::FlightSamples f = train::loadFlight(p, source);
-    if (FLAGS_epochs > 0) {
+    if (FLAGS_epochs > 0 || !validation_paths.empty()) {
       train_flights.push_back(f);
     } else if (FLAGS_fold >= 0 && cv_by == "flights") {
       const bool test = static_cast<int>(i % static_cast<std::size_t>(folds)) == FLAGS_fold;
@@ -148,6 +152,10 @@ int run() {
                              &validation_flights);
     }
     std::cout << p << ": " << f.size() << " samples (" << f.size() / arch.sample_rate_hz << " s)\n";
+  }
+  for (const std::string& p : validation_paths) {
+    validation_flights.push_back(train::loadFlight(p, source));
+    std::cout << p << ": validation, " << validation_flights.back().size() << " samples\n";
   }
   if (FLAGS_benchmark_batches > 0) {
     for (int threads : {1, 2}) {

@@ -111,8 +111,6 @@ ImageStep VisualEstimator::addImage(Timestamp t, const cv::Mat& pixels) {
     start_uncertainty_ = startPriorFor(starter_.kind(), options_);
     backend_.initialize(*initial, start_uncertainty_);
     step.first = true;
-    if (const ViInitResult* vi = starter_.viInitResult(); vi && config.backend_depth_hints)
-      for (const auto& [id, p] : vi->landmarks_W) map_points_W_.push_back(p);
   }
   step.started = true;
   ImageFrameRecord& rec = step.record;
@@ -124,7 +122,6 @@ ImageStep VisualEstimator::addImage(Timestamp t, const cv::Mat& pixels) {
   if (!first) prior.q_prev_cur = frontend::integrateGyro(imu_, prev_image_t_, t, latest.bias.head<3>());
   if (first || config.backend_pose_prior || fe.wantsPosePrior())
     prior.T_WB = predictPose(latest, imu_, t, options_.backend.imu);
-  prior.map_points_W = map_points_W_;
   prev_image_t_ = t;
   auto t0 = Clock::now();
   const frontend::FrameResult r = fe.track(frontend::ImageFrame{t, pixels}, prior);
@@ -145,20 +142,14 @@ ImageStep VisualEstimator::addImage(Timestamp t, const cv::Mat& pixels) {
   if (r.keyframe) step.new_landmarks = r.keyframe->new_landmarks;
   FrameObservations frame{t, {}};
   if (rec.used_by_backend)
-    for (const auto& o : r.observations) frame.features.push_back({o.landmark_id, o.px, o.level});
+    for (const auto& o : r.observations) frame.features.push_back({o.landmark_id, o.px});
 
   t0 = Clock::now();
   // The first state comes from the initialization; its observations cannot enter the backend
   // (it has no frame before this one), the frontend keeps them as keyframe 0.
   const FrameResult br = first ? firstResult(backend_) : backend_.addFrame(frame);
   // Feedback: the optimized window keyframes and landmarks into the frontend's map.
-  if (br.processed && (config.backend_feedback || config.backend_depth_hints)) {
-    frontend::BackendEstimate estimate = backendEstimate(backend_, fe);
-    map_points_W_.clear();
-    if (config.backend_depth_hints)
-      for (const auto& [id, p] : estimate.landmark_p_W) map_points_W_.push_back(p);
-    if (config.backend_feedback) fe.applyBackendEstimate(std::move(estimate));
-  }
+  if (br.processed && config.backend_feedback) fe.applyBackendEstimate(backendEstimate(backend_, fe));
   rec.backend_ms = 1e3 * secondsSince(t0);
   backend_s_ += rec.backend_ms * 1e-3;
   if (br.processed) {

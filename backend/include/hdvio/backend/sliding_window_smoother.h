@@ -45,10 +45,6 @@ class SlidingWindowSmoother {
                       const std::map<Key, Timestamp>& key_timestamps = {}, bool optimize = true);
   // Re-optimizes the current window without adding anything.
   UpdateResult optimize();
-  // Optimizes only the `free` keys: the factors touching none of them are left out and every
-  // other key of the factors that stay is held constant (a frame's motion-only update between
-  // window solves). The damping carried between window solves is left as it is.
-  UpdateResult optimizeKeys(const std::set<Key>& free);
 
   // Schur-complements the keys out of the window.
   void marginalize(const std::set<Key>& keys);

@@ -29,7 +29,6 @@ using ResidualForceSource =
 struct FrameResult {
   bool processed = false;     // false: not enough IMU data yet for this frame
   bool keyframe = false;
-  bool window_solved = false;  // the whole window was optimized (else only the new state)
   int observations_used = 0;  // reprojection factors added for this frame
   int landmarks_in_window = 0;
   int outliers_removed = 0;
@@ -80,7 +79,6 @@ class VioBackend {
     // One reprojection factor per observation in the graph.
     std::map<std::uint64_t, SlidingWindowSmoother::FactorId> factors;
     bool in_graph = false;
-    std::uint64_t anchor = 0;  // inverse_depth: the anchor state, obs.begin() while in the graph
   };
 
   NavState stateAt(std::uint64_t index, Timestamp t) const;
@@ -91,16 +89,10 @@ class VioBackend {
   bool isKeyframe(std::uint64_t index) const;
   void addVisualFactors(std::uint64_t index, const FrameObservations& frame, FrameResult* result);
   bool tryTriangulate(int id, Track* track);
-  // Puts a landmark at p_W into the graph with a factor per observation (inverse depth: anchored
-  // in obs.begin()); false if it is not in front of the anchor.
+  // Puts a landmark at p_W into the graph with a factor per observation.
   bool insertLandmark(int id, const Vec3& p_W, Track* track);
-  // The reprojection factor of one observation, its noise from the observation's pyramid level.
-  FactorPtr reprojectionFactor(std::uint64_t index, const FeatureObservation& obs,
-                               const Track& track) const;
-  bool inverseDepth() const { return options_.landmark_parameterization == "inverse_depth"; }
-  std::optional<Vec3> landmarkPosition(int landmark_id, const Track& track) const;
-  // inverse_depth: the anchor of a staying landmark leaves; re-anchor it in its next observation.
-  void reanchor(int id, std::uint64_t leaving, Track* track);
+  // The reprojection factor of one observation.
+  FactorPtr reprojectionFactor(std::uint64_t index, const FeatureObservation& obs) const;
   int rejectOutliers();
   void maintainWindow();
   void marginalizeState(std::uint64_t index, bool keep_landmark_information);

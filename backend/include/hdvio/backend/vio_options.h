@@ -30,30 +30,15 @@ struct VioBackendOptions {
   double keyframe_min_tracked_ratio = 0.6;
 
   double pixel_sigma = 1.0;
-  // An observation measured on pyramid level L has sigma and robust width
-  // pixel_sigma * level_sigma_factor^L (1: every level alike; 2: SVO's and the frontend's
-  // pose optimizer's weighting). The outlier test is in sigmas, so it scales the same way.
-  double level_sigma_factor = 1.0;
   RobustLoss robust_loss = RobustLoss::kHuber;
   double robust_width_px = 2.0;
-  double outlier_threshold_px = 6.0;  // level-0 reprojection error above which an observation is dropped
+  double outlier_threshold_px = 6.0;  // reprojection error above which an observation is dropped
   double min_triangulation_angle_deg = 1.0;
   int min_observations = 2;
   // At most this many landmarks in the window (a frontend's feature budget); new landmarks with
   // the longest tracks enter first. Keeps the per-frame cost bounded in rich scenes.
   int max_landmarks = 150;
   std::string landmark_marginalization = "keyframes";  // all | keyframes | untracked
-  // world_point: a landmark is its xyz in the world (ReprojectionFactor). inverse_depth:
-  // (alpha, beta, rho) in the camera of its first observation in the window, the anchor
-  // (InverseDepthReprojectionFactor, InverseDepthAnchorFactor); when the anchor leaves and the
-  // landmark stays, it is re-anchored in its next observation (docs/backend.md "Landmark
-  // parameterization"). Measured not better on the image bench flights, so not the default.
-  std::string landmark_parameterization = "world_point";  // world_point | inverse_depth
-
-  // every_frame: each frame optimizes the whole window. keyframes: only keyframes do; a frame
-  // that is not one optimizes its own state against the window held fixed (motion-only, as
-  // SVO's and OKVIS's trackers between keyframes) and its observations join the next solve.
-  std::string window_solve = "every_frame";  // every_frame | keyframes
 
   int max_iterations = 8;
   double function_tolerance = 1e-5;  // relative cost decrease that ends the solve early
@@ -65,10 +50,6 @@ struct VioBackendOptions {
   double initial_trust_region_radius = 1e4;
   double max_trust_region_radius = 1e8;
   bool trust_region_warm_start = true;
-  // ceres: ceres::Solve with linear_solver below. schur_lm: hdvio's own Levenberg-Marquardt with
-  // the same damping rules, landmarks Schur-complemented out (core/schur_lm.h; no per-solve
-  // problem build); linear_solver is then not used.
-  std::string optimizer = "ceres";
   // Landmarks are eliminated first (Schur complement) unless sparse_normal_cholesky is chosen.
   std::string linear_solver = "dense_schur";  // dense_schur | sparse_schur | sparse_normal_cholesky
   // Schur solvers eliminate exactly the landmarks (fixed 2x3x6 blocks, Ceres' specialized

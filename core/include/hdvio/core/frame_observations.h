@@ -11,9 +11,6 @@ namespace hdvio {
 struct FeatureObservation {
   int landmark_id = 0;
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();  // distorted pixel coordinates (Vec2)
-  // Pyramid level the frontend measured it on (its pixel is 2^level image pixels): a coarser
-  // level is a noisier measurement. 0 for the simulator's tracks.
-  int level = 0;
 };
 
 struct FrameObservations {

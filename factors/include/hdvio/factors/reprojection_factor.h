@@ -3,7 +3,7 @@
 // X_k = T_WB: r = project(T_CB T_WB^-1 l) - z, 2-D in pixels. T_BC (camera -> body, the
 // sensor.yaml T_BS) is fixed. Returns false (invalid evaluation) when the point is closer than
 // CameraModel::kMinDepth in front of the camera; add only observations with positive depth.
-// Noise: isotropic pixel sigma, optionally with a Huber or Cauchy loss (pixelNoise()).
+// Noise: isotropic pixel sigma, optionally with a Huber loss (pixelNoise()).
 #include <memory>
 
 #include "hdvio/core/factor.h"
@@ -11,7 +11,7 @@
 
 namespace hdvio {
 
-enum class RobustLoss { kNone, kHuber, kCauchy };
+enum class RobustLoss { kNone, kHuber };
 
 // Isotropic 2-D pixel noise; with a loss, its scale is loss_width_px (in pixels).
 NoiseModelPtr pixelNoise(double sigma_px, RobustLoss loss = RobustLoss::kNone,

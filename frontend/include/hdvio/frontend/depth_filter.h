@@ -56,9 +56,6 @@ class DepthFilter {
   // depth_min. Returns the new seed ids. Ages the existing seeds by one keyframe.
   std::vector<int> addKeyframe(const FramePtr& keyframe, const std::vector<Feature>& features,
                                double depth_mean, double depth_min);
-  // The same with one initial depth per feature (depth_means[i] for features[i]).
-  std::vector<int> addKeyframe(const FramePtr& keyframe, const std::vector<Feature>& features,
-                               const std::vector<double>& depth_means, double depth_min);
   // Updates every seed with a frame of known pose; returns (and removes) converged seeds.
   std::vector<Seed> update(const Frame& frame);
   void attachLandmark(int seed_id, int landmark_id);

@@ -29,9 +29,6 @@ struct TrackingPrior {
   // Body pose for this image from the backend (or, in demos, ground truth while the frontend
   // asks for it, see SemiDirectFrontend::wantsPosePrior).
   std::optional<Pose> T_WB;
-  // 3-D points (world) the backend already has: the initial depths of a new map's corners
-  // (depth_hints.h). Empty: every corner starts at FrontendOptions::init_depth.
-  std::vector<Vec3> map_points_W;
 };
 
 enum class TrackingStage {

@@ -119,9 +119,6 @@ class VisualEstimator {
   VioBackend backend_;
   VioStarter starter_;
   std::unique_ptr<frontend::SemiDirectFrontend> frontend_;  // on the first image
-  // The backend's landmarks after the last image (the VI start's at the first): depths for
-  // the frontend when it starts a new map.
-  std::vector<Vec3> map_points_W_;
   VioBackend::StartUncertainty start_uncertainty_;
   InitFeatureTracker init_tracker_;
   frontend::TrackingStage prev_stage_ = frontend::TrackingStage::kInitializing;

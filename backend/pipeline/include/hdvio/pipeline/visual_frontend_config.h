@@ -21,11 +21,6 @@ struct VisualFrontendConfig {
   bool backend_pose_prior = true;
   // Optimized keyframe poses and landmarks go back into the frontend's map after every frame.
   bool backend_feedback = true;
-  // A new map (the first after a visual-inertial start, a re-initialization after a loss)
-  // starts its corners at the depths of the points the backend has (depth_hints.h) instead of
-  // init_depth. Off by default: neutral over seeds on the rendered bench flights
-  // (docs/visual_pipeline_studies.md "Tried in session 12").
-  bool backend_depth_hints = false;
   // Frames with fewer tracked features are given to the backend without observations
   // (IMU-only step) and counted as lost.
   int min_features_for_backend = 10;

@@ -4,10 +4,7 @@
 // window and epoch, as the filter will see: the ground-truth attitude that rotates the inputs
 // to the world is perturbed by a small random rotation Exp(delta) R_k (constant over the
 // window), and a constant gyro (and, for accelerometer inputs, accelerometer) bias error is
-// added. Optionally (yaw_augmentation) the whole window, inputs and target, is turned about the
-// world's vertical by a random angle: gravity is vertical, so the turned window is as physical
-// as the recorded one, and a network trained so is blind to the heading a flight happened to
-// fly (TLIO's yaw augmentation).
+// added.
 #include <ostream>
 #include <string>
 #include <utility>
@@ -46,7 +43,6 @@ struct DisplacementTrainOptions {
   double orientation_sigma_deg = 2.0;  // per-axis std (Gaussian) or largest angle (uniform)
   double gyro_bias_range = 0.01;       // rad/s, uniform in [-r, r] per axis
   double accel_bias_range = 0.2;       // m/s^2, accelerometer inputs only
-  bool yaw_augmentation = false;       // turn each window about world z by U(0, 2 pi)
   int seed = 7;
   int threads = 1;
   double max_minutes = 10.0;           // wall-clock budget; stops after the epoch that exceeds it
