@@ -6,14 +6,12 @@
 
 #include "hdvio/backend/triangulation.h"
 #include "hdvio/core/thread_clock.h"
-#include "hdvio/factors/dynamics_factors.h"
 #include "hdvio/factors/imu_factor.h"
 #include "hdvio/factors/prior_factors.h"
 #include "hdvio/factors/reprojection_factor.h"
 
 namespace hdvio {
 using symbols::B;
-using symbols::F;
 using symbols::L;
 using symbols::V;
 using symbols::X;
@@ -42,12 +40,8 @@ VioBackend::VioBackend(const VioBackendOptions& options, const CameraModel& came
     : options_(options),
       camera_(camera),
       T_BC_(T_BC),
-      residual_force_(std::move(residual_force)),
-      smoother_(smootherOptions(options)) {
-  if (options.method == VioMethod::kHdvio && options.force_walk_adaptive.enabled)
-    force_walk_.emplace(options.force_walk_adaptive, options.dynamics.force_random_walk,
-                        options.imu.accel_noise_density);
-}
+      dynamics_(makeDynamicsModel(options, std::move(residual_force))),
+      smoother_(smootherOptions(options)) {}
 
 void VioBackend::addImu(const ImuSample& s) {
   if (imu_.empty() || s.t > imu_.back().t) imu_.push_back(s);
@@ -87,35 +81,11 @@ void VioBackend::initialize(const NavState& s, const StartUncertainty& start) {
       Vec3::Constant(options_.init_accel_bias_sigma);
   priors.add(std::make_shared<BiasPrior>(B(k), s.bias, NoiseModel::diagonal(bias_sigmas)));
   std::map<Key, Timestamp> times{{X(k), s.t}, {V(k), s.t}, {B(k), s.t}};
-  if (usesDynamics(options_.method)) {
-    const Vec3 f0 = initialForce(s);
-    values.insertVector(F(k), f0);
-    priors.add(std::make_shared<ForcePrior>(F(k), f0,
-                                            NoiseModel::isotropic(3, options_.init_force_sigma)));
-    times[F(k)] = s.t;
-  }
+  dynamics_->addFirstState(k, s, buffers(), &priors, &values);
+  for (Key key : dynamics_->stateKeys(k)) times[key] = s.t;
   smoother_.update(priors, values, times, /*optimize=*/false);
   states_.push_back({k, s.t, true});
   last_keyframe_ = k;
-}
-
-Vec3 VioBackend::initialForce(const NavState& s) const {
-  const Timestamp from = s.t - fromSeconds(options_.init_force_window_s);
-  if (options_.method != VioMethod::kHdvio || !(options_.init_force_window_s > 0.0) ||
-      imu_.empty() || thrust_.empty() || imu_.front().t > from || thrust_.front().t > from ||
-      imu_.back().t < s.t || thrust_.back().t < s.t)
-    return s.f_ext_W;
-  // As the adaptive walk's evidence: accelerometer minus thrust, learned force and drag (at the
-  // state's velocity, held over the span) in the frame at `from`, rotated to the world.
-  const ResidualForceFn force =
-      residual_force_ ? residual_force_(from, s.t, s.bias.head<3>()) : ResidualForceFn();
-  const PreintegratedThrust pit =
-      PreintegratedThrust::integrate(imu_, thrust_, from, s.t, s.bias, options_.thrust, force);
-  const Mat3 R_from = s.T_WB.R() * pit.deltaR().transpose();
-  const Vec3 u = R_from.transpose() * s.v_W;
-  const DragIntegral drag = integrateDrag(pit, options_.dynamics.drag, u, u);
-  const Vec3 f_W = R_from * (pit.correctedGamma(s.bias) - drag.beta) / pit.dt();
-  return f_W.allFinite() ? f_W : s.f_ext_W;
 }
 
 NavState VioBackend::stateAt(std::uint64_t index, Timestamp t) const {
@@ -125,17 +95,14 @@ NavState VioBackend::stateAt(std::uint64_t index, Timestamp t) const {
   s.T_WB = est.pose(X(index));
   s.v_W = est.vec3(V(index));
   s.bias = est.vector(B(index));
-  if (est.exists(F(index))) s.f_ext_W = est.vec3(F(index));
+  dynamics_->readState(est, index, &s);
   return s;
 }
 
 NavState VioBackend::latestState() const {
   NavState s = stateAt(states_.back().index, states_.back().t);
-  // vimo / vid hold f_ext constant over [i, j] on F_i, so the newest F is not constrained yet:
-  // report the force of the interval that ends at the newest state.
-  if ((options_.method == VioMethod::kVimo || options_.method == VioMethod::kVid) &&
-      states_.size() >= 2)
-    s.f_ext_W = smoother_.estimate().vec3(F(states_[states_.size() - 2].index));
+  if (states_.size() >= 2)
+    dynamics_->readNewest(smoother_.estimate(), states_[states_.size() - 2].index, &s);
   return s;
 }
 
@@ -175,46 +142,14 @@ void VioBackend::addInertialFactors(const StateSlot& from, std::uint64_t k, Time
   values->insertVector(V(k), v_j);
   values->insertVector(B(k), s.bias);
   graph->add(std::make_shared<ImuFactor>(X(i), V(i), B(i), X(k), V(k), B(k), pim));
-  if (!usesDynamics(options_.method)) return;
-  const ResidualForceFn force = options_.method == VioMethod::kHdvio && residual_force_
-                                    ? residual_force_(from.t, t, s.bias.head<3>())
-                                    : ResidualForceFn();
-  auto pit = std::make_shared<const PreintegratedThrust>(PreintegratedThrust::integrate(
-      imu_, thrust_, from.t, t, s.bias, options_.thrust, force));
-  values->insertVector(F(k), s.f_ext_W);
-  DynamicsFactorParams dynamics = options_.dynamics;
-  dynamics.sigma_velocity_i = Ri.transpose() * s.v_W;  // the law's sigma at the prediction
-  dynamics.sigma_velocity_j = Ri.transpose() * v_j;
-  if (force_walk_) {
-    // The interval's accelerometer-minus-model force (frame i mean, drag at the predicted
-    // velocities), in the world frame.
-    const DragIntegral drag = integrateDrag(*pit, dynamics.drag, dynamics.sigma_velocity_i,
-                                            dynamics.sigma_velocity_j);
-    const Vec3 f_W = Ri * (pit->correctedGamma(s.bias) - drag.beta) / dt;
-    dynamics.force_random_walk = force_walk_->update(f_W, dt);
-  }
-  // vimo / vid hold the force on F_i: F(k) enters with the next interval's factor.
-  switch (options_.method) {
-    case VioMethod::kHdvio:
-      graph->add(std::make_shared<HdvioDynamicsFactor>(X(i), V(i), F(i), X(k), V(k), F(k), B(i),
-                                                       pit, dynamics));
-      break;
-    case VioMethod::kVimo:
-      graph->add(std::make_shared<VimoDynamicsFactor>(X(i), V(i), F(i), X(k), V(k), B(i), pit, dynamics));
-      break;
-    case VioMethod::kVid:
-      graph->add(std::make_shared<VidDynamicsFactor>(X(i), V(i), F(i), X(k), V(k), B(i), pit, dynamics));
-      break;
-    default:
-      throw std::logic_error("VioBackend: no dynamics factor for this method");
-  }
+  dynamics_->addInterval({i, k, from.t, t, s, v_j, dt}, buffers(), graph, values);
 }
 
 FrameResult VioBackend::addFrame(const FrameObservations& frame) {
   FrameResult result;
   if (!initialized() || imu_.empty() || imu_.back().t < frame.t || frame.t <= states_.back().t)
     return result;
-  if (usesDynamics(options_.method) && (thrust_.empty() || thrust_.back().t < frame.t))
+  if (dynamics_->needsThrust() && (thrust_.empty() || thrust_.back().t < frame.t))
     return result;
   const double cpu_start = threadCpuSeconds();
   const std::uint64_t k = next_index_++;
@@ -222,7 +157,7 @@ FrameResult VioBackend::addFrame(const FrameObservations& frame) {
   Values values;
   addInertialFactors(states_.back(), k, frame.t, &inertial, &values);
   std::map<Key, Timestamp> times{{X(k), frame.t}, {V(k), frame.t}, {B(k), frame.t}};
-  if (values.exists(F(k))) times[F(k)] = frame.t;
+  for (Key key : dynamics_->stateKeys(k)) times[key] = frame.t;
   smoother_.update(inertial, values, times, /*optimize=*/false);
   states_.push_back({k, frame.t, false});
 
@@ -387,7 +322,7 @@ void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_inform
   // tracked stay and only lose this observation (as OKVIS does). Other observations by the
   // leaving state are dropped too. So the prior links old keyframes only and stays small.
   std::set<Key> leaving{X(index), V(index), B(index)};
-  if (smoother_.estimate().exists(F(index))) leaving.insert(F(index));
+  for (Key key : dynamics_->stateKeys(index)) leaving.insert(key);
   const std::size_t recent = std::min(states_.size(), static_cast<std::size_t>(options_.num_recent));
   const std::uint64_t first_recent = states_[states_.size() - recent].index;
   std::set<std::uint64_t> keyframes;

@@ -1,15 +1,16 @@
 #pragma once
 // The visual-inertial(-dynamics) backend: turns frames of landmark observations plus IMU and
 // thrust buffers into states, factors and initial values for the sliding-window smoother, in
-// one of four modes (vio, vimo, vid, hdvio). The window holds the K most recent states and up
-// to L older keyframes; leaving states are Schur-complemented into a prior.
+// one of four modes (vio, vimo, vid, hdvio) that differ only by the dynamics model made at
+// construction (dynamics_model.h). The window holds the K most recent states and up to L older
+// keyframes; leaving states are Schur-complemented into a prior.
 #include <deque>
-#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <vector>
 
-#include "hdvio/backend/adaptive_force_walk.h"
+#include "hdvio/backend/dynamics_model.h"
 #include "hdvio/core/frame_observations.h"
 #include "hdvio/core/nav_state.h"
 #include "hdvio/backend/sliding_window_smoother.h"
@@ -18,13 +19,6 @@
 #include "hdvio/factors/measurement_steps.h"
 
 namespace hdvio {
-
-// The pluggable residual-force provider of hdvio mode: given an interval and the current gyro
-// bias estimate, the learned residual force (body frame, m/s^2) as a function of time over it.
-// The learned module's providers are adapted to this shape by the pipeline library
-// (backend/pipeline residual_force_adapter.h; the estimators do not depend on learned/).
-using ResidualForceSource =
-    std::function<ResidualForceFn(Timestamp t_i, Timestamp t_j, const Vec3& gyro_bias)>;
 
 struct FrameResult {
   bool processed = false;     // false: not enough IMU data yet for this frame
@@ -82,8 +76,7 @@ class VioBackend {
   };
 
   NavState stateAt(std::uint64_t index, Timestamp t) const;
-  // The first state's force prior mean (options.init_force_window_s).
-  Vec3 initialForce(const NavState& s) const;
+  InertialBuffers buffers() const { return {imu_, thrust_}; }
   void addInertialFactors(const StateSlot& from, std::uint64_t to, Timestamp t_to,
                           FactorGraph* graph, Values* values);
   bool isKeyframe(std::uint64_t index) const;
@@ -101,9 +94,8 @@ class VioBackend {
   VioBackendOptions options_;
   CameraModel camera_;
   Pose T_BC_;
-  ResidualForceSource residual_force_;
+  std::unique_ptr<DynamicsModel> dynamics_;  // of options.method
   SlidingWindowSmoother smoother_;
-  std::optional<AdaptiveForceWalk> force_walk_;  // hdvio with backend.force_walk_adaptive
   std::vector<ImuSample> imu_;
   std::vector<ThrustSample> thrust_;
   std::deque<StateSlot> states_;

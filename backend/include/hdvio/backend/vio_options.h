@@ -15,6 +15,8 @@ namespace hdvio {
 
 // vio: reprojection + IMU. vimo: + point-mass dynamics with a zero-mean external force.
 // vid: + external-force mean prior (VID-Fusion). hdvio: + learned residual force.
+// The name in the configuration; VioBackend turns it into its DynamicsModel once
+// (makeDynamicsModel, dynamics_model.h).
 enum class VioMethod { kVio, kVimo, kVid, kHdvio };
 VioMethod parseVioMethod(const std::string& name);  // throws std::invalid_argument
 std::string toString(VioMethod method);
