@@ -77,6 +77,7 @@ int runPlots(const std::string& out_dir) {
 
 int run() {
   using namespace hdvio::eval;
+  if (FLAGS_plots && FLAGS_out.empty()) throw hdvio::InputError("", 0, "--plots needs --out");
   const TrajectoryFormat gt_format = parseTrajectoryFormat(FLAGS_gt_format);
   const TrajectoryFormat est_format = parseTrajectoryFormat(FLAGS_est_format);
   EvaluationOptions options;
@@ -132,14 +133,7 @@ int main(int argc, char** argv) {
       "usage: hdvio_eval --gt <file|asl folder> --est name1=path1[,name2=path2...] [--align se3] [--out dir [--plots]]\n"
       "trajectory evaluation with evo / rpg toolbox metrics (ATE, RPE)\n"
       "example: hdvio_eval --gt ../shared/data/euroc/V1_01_easy_excerpt --est vio=/tmp/vio --align se3");
-  if (FLAGS_gt.empty() || FLAGS_est.empty()) {
-    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
-    std::cerr << "error: --gt and --est are required\n";
-    return hdvio::kExitBadInput;
-  }
-  if (FLAGS_plots && FLAGS_out.empty()) {
-    std::cerr << "error: --plots needs --out\n";
-    return hdvio::kExitBadInput;
-  }
+  if (const int bad = hdvio::checkRequiredFlags(__FILE__, {FLAGS_gt, FLAGS_est}, true, "--gt and --est are required"))
+    return bad;
   return hdvio::runTool(run);
 }

@@ -59,10 +59,7 @@ int main(int argc, char** argv) {
       "usage: hdvio_track --sequence <ASL folder> [--max_frames N] [--trajectory out.txt]\n"
       "runs the semi-direct visual frontend and prints, per image, stage, tracked features and time\n"
       "example: hdvio_track --sequence ../shared/data/euroc/V1_01_easy_excerpt --max_frames 50");
-  if (FLAGS_sequence.empty()) {
-    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
-    return hdvio::kExitBadInput;
-  }
+  if (const int bad = hdvio::checkRequiredFlags(__FILE__, {FLAGS_sequence})) return bad;
   return hdvio::runTool([] {
     if (FLAGS_max_frames < 0) throw hdvio::InputError("--max_frames", 0, "must be >= 0");
     const hdvio::Sequence seq = hdvio::io::readAsl(FLAGS_sequence);

@@ -91,10 +91,7 @@ int main(int argc, char** argv) {
       "writes a deterministic synthetic flight as an ASL folder\n"
       "example: hdvio_sim --config config/sim/ci_tiny.yaml --out /tmp/sim_tiny");
   cv::setNumThreads(1);  // one core by design (benchmarks, shared CI machines)
-  if (FLAGS_config.empty() || FLAGS_out.empty() || argc != 1) {
-    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
-    return hdvio::kExitBadInput;
-  }
+  if (const int bad = hdvio::checkRequiredFlags(__FILE__, {FLAGS_config, FLAGS_out}, argc == 1)) return bad;
   return hdvio::runTool([&] {
     runNamingScenario();
     return 0;

@@ -28,10 +28,7 @@ int main(int argc, char** argv) {
       "usage: hdvio_convert --input <dataset path> [--topics <yaml>] [--calibration <dir>] --output <asl folder> [--force]\n"
       "converts any supported dataset (ROS 1 bags included) to the ASL folder layout\n"
       "example: hdvio_convert --input flight.bag --calibration ../shared/data/euroc/V1_01_easy_excerpt/mav0 --output /tmp/asl");
-  if (FLAGS_input.empty() || FLAGS_output.empty() || argc != 1) {
-    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
-    return hdvio::kExitBadInput;
-  }
+  if (const int bad = hdvio::checkRequiredFlags(__FILE__, {FLAGS_input, FLAGS_output}, argc == 1)) return bad;
   return hdvio::runTool([&] {
     const fs::path out = fs::absolute(FLAGS_output).lexically_normal();
     const bool non_empty = fs::exists(out) && (!fs::is_directory(out) || !fs::is_empty(out));

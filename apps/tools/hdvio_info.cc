@@ -26,10 +26,7 @@ int main(int argc, char** argv) {
       "what a dataset holds and which methods it can serve; path: ASL folder, Blackbird or DIDO\n"
       "folder / data.hdf5, NeuroBEM .csv, ROS 1 bag (with --calibration)\n"
       "example: hdvio_info --check ../shared/data/euroc/V1_01_easy_excerpt");
-  if (argc != 2) {
-    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
-    return hdvio::kExitBadInput;
-  }
+  if (const int bad = hdvio::checkRequiredFlags(__FILE__, {}, argc == 2)) return bad;
   return hdvio::runTool([&] {
     hdvio::io::ReadOptions options;
     options.max_imu_gap_s = FLAGS_max_imu_gap_s;

@@ -4,13 +4,13 @@
 // against the measured total force mass * specific force, in the body frame.
 #include <cstdio>
 #include <fstream>
-#include <iostream>
 #include <map>
 
 #include <gflags/gflags.h>
 
 #include "hdvio/core/error.h"
 #include "hdvio/core/tool_flags.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/learned/force_metrics.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/train/flight_loading.h"
@@ -76,11 +76,8 @@ int main(int argc, char** argv) {
       "usage: hdvio_force_eval --data_root <dir> --data <flight> [--weights m.tcn] [--thrust_coefficient C --mass m]\n"
       "force RMSE of the thrust model, thrust + TCN and NeuroBEM\n"
       "example: hdvio_force_eval --data_root ../shared/data --data neurobem/x.csv --weights m.tcn --thrust_coefficient 1.1e-6 --mass 0.772");
-  if (FLAGS_data.empty()) {
-    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
-    return hdvio::kExitBadInput;
-  }
-  try {
+  if (const int bad = hdvio::checkRequiredFlags(__FILE__, {FLAGS_data})) return bad;
+  return hdvio::runTool([] {
     if (!(FLAGS_begin_fraction >= 0.0 && FLAGS_begin_fraction < FLAGS_end_fraction && FLAGS_end_fraction <= 1.0)) {
       throw hdvio::InputError("", 0, "need 0 <= --begin_fraction < --end_fraction <= 1");
     }
@@ -180,9 +177,6 @@ int main(int argc, char** argv) {
     if (tcn) printRow(model_label, all.tcn, all.measured, mass);
     if (all_neurobem) printRow("NeuroBEM (full state)", all.neurobem, all.measured, mass);
     if (!all.sigma.empty()) printCoverage(all);
-  } catch (const hdvio::InputError& e) {
-    std::cerr << "error: " << e.what() << std::endl;
-    return hdvio::kExitBadInput;
-  }
-  return 0;
+    return 0;
+  });
 }

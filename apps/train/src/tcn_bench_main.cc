@@ -2,7 +2,6 @@
 // issue's <= 20 us budget, and of streaming inference over a whole flight per sample.
 #include <chrono>
 #include <cstdio>
-#include <iostream>
 #include <random>
 
 #include <gflags/gflags.h>
@@ -10,6 +9,7 @@
 #include "hdvio/core/error.h"
 #include "hdvio/core/thread_clock.h"
 #include "hdvio/core/tool_flags.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/learned/tcn_weight_file.h"
 
 DEFINE_string(weights, "", "TCN weight file (empty: the paper architecture with random weights)");
@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
       "example: hdvio_tcn_bench --windows 20000");
   using namespace hdvio::learned;
   using Clock = std::chrono::steady_clock;
-  try {
+  return hdvio::runTool([] {
     if (FLAGS_windows < 1) throw hdvio::InputError("", 0, "--windows must be positive");
     std::mt19937 rng(1);
     std::normal_distribution<float> n(0.0f, 1.0f);
@@ -73,9 +73,6 @@ int main(int argc, char** argv) {
     std::printf("sequence forward      %.2f us CPU, %.2f us wall per output sample (%d samples)\n", seq_cpu,
                 seq_us, steps);
     std::printf("(checksum %g)\n", static_cast<double>(sink));
-  } catch (const hdvio::InputError& e) {
-    std::cerr << "error: " << e.what() << std::endl;
-    return hdvio::kExitBadInput;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -1,12 +1,12 @@
 // hdvio_thrust_id: identifies C_T / m (and C_T for a given mass) from rotor speeds and the
 // accelerometer, for datasets that publish no thrust model (DIDO, NeuroBEM).
 #include <cstdio>
-#include <iostream>
 
 #include <gflags/gflags.h>
 
 #include "hdvio/core/error.h"
 #include "hdvio/core/tool_flags.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/learned/thrust_identification.h"
 #include "hdvio/train/flight_loading.h"
 
@@ -22,11 +22,8 @@ int main(int argc, char** argv) {
       "usage: hdvio_thrust_id --data_root <dir> --data <flight>[,<flight>...] [--mass m]\n"
       "identifies the thrust coefficient from rotor speeds and the accelerometer\n"
       "example: hdvio_thrust_id --data_root ../shared/data --data neurobem/a.csv,neurobem/b.csv --mass 0.772");
-  if (FLAGS_data.empty()) {
-    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
-    return hdvio::kExitBadInput;
-  }
-  try {
+  if (const int bad = hdvio::checkRequiredFlags(__FILE__, {FLAGS_data})) return bad;
+  return hdvio::runTool([] {
     if (!(FLAGS_begin_fraction >= 0.0 && FLAGS_begin_fraction < FLAGS_end_fraction && FLAGS_end_fraction <= 1.0)) {
       throw hdvio::InputError("", 0, "need 0 <= --begin_fraction < --end_fraction <= 1");
     }
@@ -47,9 +44,6 @@ int main(int argc, char** argv) {
     if (FLAGS_fit_drag) std::printf("linear drag d      %.4f %.4f %.4f 1/s\n", fit.linear_drag.x(), fit.linear_drag.y(), fit.linear_drag.z());
     std::printf("RMSE along axis    %.4f m/s^2\n", fit.rmse_axis);
     std::printf("RMSE 3-D           %.4f m/s^2\n", fit.rmse_total);
-  } catch (const hdvio::InputError& e) {
-    std::cerr << "error: " << e.what() << std::endl;
-    return hdvio::kExitBadInput;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -12,6 +12,7 @@
 #include "hdvio/core/drag_law.h"
 #include "hdvio/core/error.h"
 #include "hdvio/core/tool_flags.h"
+#include "hdvio/core/tool_main.h"
 #include "hdvio/learned/flight_folds.h"
 #include "hdvio/learned/force_model_error.h"
 #include "hdvio/learned/tcn_weight_file.h"
@@ -143,11 +144,11 @@ int main(int argc, char** argv) {
       "usage: hdvio_train --config <train.yaml> --out <weights.tcn>\n"
       "trains the residual-force TCN (libtorch)\n"
       "example: hdvio_train --config config/learned/train_neurobem.yaml --out neurobem.tcn");
-  if (FLAGS_config.empty() || (FLAGS_out.empty() && !FLAGS_list_flights && !FLAGS_fit_only)) {
-    std::fputs(hdvio::toolHelp(__FILE__).c_str(), stderr);
-    return kExitBadInput;
-  }
-  try {
+  if (const int bad = hdvio::checkRequiredFlags(__FILE__, {FLAGS_config},
+                                                 !FLAGS_out.empty() || FLAGS_list_flights || FLAGS_fit_only))
+    return bad;
+  // libtorch failures: one line "error: training failed: ...", exit 1, no partial weight file.
+  return runTool([] {
     const ConfigReader config = ConfigReader::fromFile(FLAGS_config);
     const ConfigReader data = config.section("data");
     std::vector<std::string> train_paths, validation_paths;
@@ -259,15 +260,6 @@ int main(int argc, char** argv) {
       saveTcnWeights(result.best, FLAGS_out, comment);
     }
     std::cout << "wrote " << FLAGS_out << "\n";
-  } catch (const InputError& e) {
-    std::cerr << "error: " << e.what() << std::endl;
-    return kExitBadInput;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "error: " << e.what() << std::endl;
-    return kExitBadInput;
-  } catch (const std::exception& e) {  // libtorch failures: one line, no partial weight file
-    std::cerr << "error: training failed: " << e.what() << std::endl;
-    return 1;
-  }
-  return 0;
+    return 0;
+  }, ToolErrorPolicy{true, "training failed: "});
 }

@@ -12,6 +12,7 @@
 //                           "usage: hdvio_x --in <file>\n"
 //                           "what it does\n"
 //                           "example: hdvio_x --in data.csv");
+//     if (const int bad = hdvio::checkRequiredFlags(__FILE__, {FLAGS_in})) return bad;
 //     ...
 #include <gflags/gflags.h>
 
@@ -19,8 +20,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
+#include <initializer_list>
 #include <string>
 #include <vector>
+
+#include "hdvio/core/error.h"
 
 DECLARE_bool(help);
 DECLARE_bool(helpfull);
@@ -125,6 +130,21 @@ inline void parseToolFlags(int* argc, char*** argv, const char* source_file, con
     std::exit(0);
   }
   gflags::HandleCommandLineHelpFlags();
+}
+
+// A tool called without its required input: 0 when none of the string flags `required` is empty
+// and `also_ok` holds (e.g. the count of positional arguments, argc == 2); otherwise the tool's
+// help goes to stderr, then `problem` as one line "error: <problem>" if given, and the answer is
+// the exit code kExitBadInput for main to return.
+inline int checkRequiredFlags(const char* source_file,
+                              std::initializer_list<std::reference_wrapper<const std::string>> required,
+                              bool also_ok = true, const char* problem = nullptr) {
+  bool ok = also_ok;
+  for (const std::string& flag : required) ok = ok && !flag.empty();
+  if (ok) return 0;
+  std::fputs(toolHelp(source_file).c_str(), stderr);
+  if (problem) std::fprintf(stderr, "error: %s\n", problem);
+  return kExitBadInput;
 }
 
 }  // namespace hdvio
