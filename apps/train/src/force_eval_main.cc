@@ -12,6 +12,7 @@
 #include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
 #include "hdvio/learned/force_metrics.h"
+#include "hdvio/learned/force_model_error.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/train/flight_loading.h"
 
@@ -112,6 +113,7 @@ int main(int argc, char** argv) {
     source.rate_hz = FLAGS_rate_hz;
     const double mass = FLAGS_mass > 0.0 ? FLAGS_mass : 1.0;
     Series all;
+    std::vector<std::vector<Vec3>> errors;  // per flight: measured - best model
     bool all_neurobem = true;
     std::ofstream csv;
     if (!FLAGS_out_csv.empty()) {
@@ -165,6 +167,11 @@ int main(int argc, char** argv) {
       if (tcn) printRow(model_label, s.tcn, s.measured, mass);
       if (neurobem) printRow("NeuroBEM (full state)", s.neurobem, s.measured, mass);
       if (variance) printCoverage(s);
+      // The best model's error, per flight (contiguous), for the walk the estimator would need.
+      const std::vector<Vec3>& best = tcn ? s.tcn : drag.enabled() ? s.law : s.thrust;
+      std::vector<Vec3> error(best.size());
+      for (std::size_t k = 0; k < best.size(); ++k) error[k] = s.measured[k] - best[k];
+      errors.push_back(std::move(error));
       for (std::vector<Vec3> Series::*v : {&Series::measured, &Series::thrust, &Series::law, &Series::tcn,
                                            &Series::neurobem, &Series::sigma})
         (all.*v).insert((all.*v).end(), (s.*v).begin(), (s.*v).end());
@@ -177,6 +184,10 @@ int main(int argc, char** argv) {
     if (tcn) printRow(model_label, all.tcn, all.measured, mass);
     if (all_neurobem) printRow("NeuroBEM (full state)", all.neurobem, all.measured, mass);
     if (!all.sigma.empty()) printCoverage(all);
+    // What hdvio_train writes into a weight file (force_walk) and hdvio_run adopts as the least
+    // external-force walk: a model trained on other flights may need more on these.
+    std::printf("error walk of the best model above: %.4g m/s^2/sqrt(s) (mass-normalized)\n",
+                hdvio::learned::modelErrorWalk(errors, FLAGS_rate_hz));
     return 0;
   });
 }
