@@ -1,6 +1,10 @@
 #include "hdvio/learned/torch/displacement_trainer.h"
 
+#include <ATen/CPUGeneratorImpl.h>
+
 #include <chrono>
+#include <filesystem>
+#include <mutex>
 #include <ctime>
 #include <cmath>
 #include <iomanip>
@@ -161,6 +165,76 @@ double DisplacementTrainer::trainingWindowsPerSecond(const std::vector<FlightSam
   return static_cast<double>(batches) * options_.batch_size / s;
 }
 
+struct DisplacementTrainer::Resumed {
+  int epoch = 0;  // the last finished epoch
+  int best_epoch = 0;
+  double best_loss = 0.0;
+};
+
+void DisplacementTrainer::saveResumeState(int epoch, int best_epoch, double best_loss,
+                                          torch::optim::Adam& optimizer,
+                                          const std::vector<DisplacementEpoch>& history) {
+  torch::serialize::OutputArchive archive, module, adam;
+  module_->save(module);
+  optimizer.save(adam);
+  archive.write("module", module);
+  archive.write("optimizer", adam);
+  auto generator = at::detail::getDefaultCPUGenerator();
+  {
+    std::lock_guard<std::mutex> lock(generator.mutex());
+    archive.write("rng_state", generator.get_state());
+  }
+  archive.write("epoch", torch::tensor(static_cast<int64_t>(epoch)));
+  archive.write("best_epoch", torch::tensor(static_cast<int64_t>(best_epoch)));
+  archive.write("best_loss", torch::tensor(best_loss, torch::kFloat64));
+  torch::Tensor h = torch::zeros({static_cast<int64_t>(history.size()), 7}, torch::kFloat64);
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    const DisplacementEpoch& e = history[i];
+    const double row[7] = {static_cast<double>(e.epoch), e.train_loss, e.validation_loss,
+                           e.validation_axis_mse.x(), e.validation_axis_mse.y(), e.validation_axis_mse.z(), e.seconds};
+    for (int c = 0; c < 7; ++c) h[static_cast<int64_t>(i)][c] = row[c];
+  }
+  archive.write("history", h);
+  const std::string path = options_.checkpoint_dir + "/resume.pt";
+  archive.save_to(path + ".tmp");
+  std::filesystem::rename(path + ".tmp", path);
+}
+
+DisplacementTrainer::Resumed DisplacementTrainer::loadResumeState(torch::optim::Adam& optimizer,
+                                                                  std::vector<DisplacementEpoch>* history) {
+  const std::string path = options_.checkpoint_dir + "/resume.pt";
+  if (!std::filesystem::exists(path)) throw std::invalid_argument(path + ": no checkpoint to resume from");
+  torch::serialize::InputArchive archive, module, adam;
+  archive.load_from(path);
+  archive.read("module", module);
+  archive.read("optimizer", adam);
+  module_->load(module);
+  optimizer.load(adam);
+  torch::Tensor rng, epoch, best_epoch, best_loss, h;
+  archive.read("rng_state", rng);
+  archive.read("epoch", epoch);
+  archive.read("best_epoch", best_epoch);
+  archive.read("best_loss", best_loss);
+  archive.read("history", h);
+  auto generator = at::detail::getDefaultCPUGenerator();
+  {
+    std::lock_guard<std::mutex> lock(generator.mutex());
+    generator.set_state(rng);
+  }
+  history->clear();
+  for (int64_t i = 0; i < h.size(0); ++i) {
+    DisplacementEpoch e;
+    e.epoch = static_cast<int>(h[i][0].item<double>());
+    e.train_loss = h[i][1].item<double>();
+    e.validation_loss = h[i][2].item<double>();
+    e.validation_axis_mse = Eigen::Vector3d(h[i][3].item<double>(), h[i][4].item<double>(), h[i][5].item<double>());
+    e.seconds = h[i][6].item<double>();
+    history->push_back(e);
+  }
+  return {static_cast<int>(epoch.item<int64_t>()), static_cast<int>(best_epoch.item<int64_t>()),
+          best_loss.item<double>()};
+}
+
 DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSamples>& train_flights,
                                                       const std::vector<FlightSamples>& validation_flights,
                                                       std::ostream& log) {
@@ -187,6 +261,17 @@ DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSa
 
   torch::optim::Adam optimizer(module_->parameters(), torch::optim::AdamOptions(options_.learning_rate));
   DisplacementTrainingResult result{{}, 0, exportTcn(module_), {}};
+  std::optional<EpochLoopStart> start;
+  if (options_.resume) {
+    if (options_.checkpoint_dir.empty()) throw std::invalid_argument("resuming needs a checkpoint folder");
+    const Resumed r = loadResumeState(optimizer, &result.history);
+    start = EpochLoopStart{r.epoch + 1, r.best_loss,
+                           {r.best_epoch, loadTcnWeights(options_.checkpoint_dir + "/best.tcn")}};
+    log << "resumed after epoch " << r.epoch << " (best so far: epoch " << r.best_epoch << ")\n";
+  }
+  const EpochEnd save_state = [&](int epoch, const EpochLoopResult& best, double best_loss) {
+    if (!options_.checkpoint_dir.empty()) saveResumeState(epoch, best.best_epoch, best_loss, optimizer, result.history);
+  };
   const auto run_epoch = [&](int epoch, std::ostream& out) {
     const auto t0 = std::chrono::steady_clock::now();
     DisplacementEpoch s;
@@ -220,7 +305,7 @@ DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSa
   const EpochLoopResult loop = runEpochLoop(
       {fixed ? options_.fixed_epochs : options_.max_epochs, options_.patience, options_.max_minutes,
        options_.checkpoint_dir, false, fixed},
-      module_, run_epoch, log);
+      module_, run_epoch, log, save_state, start ? &*start : nullptr);
   result.best_epoch = loop.best_epoch;
   result.best = loop.best;
   // Per-axis validation RMSE of the best weights (Eigen inference, as deployed).

@@ -9,12 +9,12 @@ namespace hdvio::learned {
 
 EpochLoopResult runEpochLoop(const EpochLoopOptions& options, TcnModule& module,
                              const std::function<double(int epoch, std::ostream& log)>& run_epoch,
-                             std::ostream& log) {
+                             std::ostream& log, const EpochEnd& end_of_epoch, const EpochLoopStart* start) {
   using Clock = std::chrono::steady_clock;
-  EpochLoopResult result{0, exportTcn(module)};
-  double best = std::numeric_limits<double>::infinity();
+  EpochLoopResult result = start ? start->best : EpochLoopResult{0, exportTcn(module)};
+  double best = start ? start->best_loss : std::numeric_limits<double>::infinity();
   const auto t_start = Clock::now();
-  for (int epoch = 0; epoch <= options.max_epochs; ++epoch) {
+  for (int epoch = start ? start->epoch : 0; epoch <= options.max_epochs; ++epoch) {
     const double validation_loss = run_epoch(epoch, log);
     if (validation_loss < best || options.keep_last) {
       best = validation_loss;
@@ -26,6 +26,7 @@ EpochLoopResult runEpochLoop(const EpochLoopOptions& options, TcnModule& module,
       if (!options.keep_last) log << "  *";
     }
     log << std::endl;
+    if (end_of_epoch) end_of_epoch(epoch, result, best);
     if (options.save_module && !options.checkpoint_dir.empty())
       torch::save(module, options.checkpoint_dir + "/checkpoint.pt");
     if (epoch - result.best_epoch >= options.patience) {

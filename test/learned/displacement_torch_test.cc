@@ -2,12 +2,15 @@
 // Tcn on random weights (with skip projections; also the release variant), the last-step
 // forward training uses against the full forward (values and gradients), and tiny training
 // runs on a synthetic flight.
-#include <cmath>
-
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
 
 #include "hdvio/core/lie.h"
 #include "hdvio/learned/displacement_examples.h"
+#include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/torch/displacement_trainer.h"
 #include "hdvio/learned/torch/tcn_module.h"
 
@@ -151,6 +154,39 @@ TEST(DisplacementTorch, SameOptionsTrainTheSameWeights) {
   const torch::Tensor first = outputs(7);
   EXPECT_TRUE(torch::equal(first, outputs(7)));
   EXPECT_GT((first - outputs(8)).abs().max().item<double>(), 1e-4);  // the seed matters
+}
+
+// A training stopped after any epoch and resumed from its checkpoint folder ends with the
+// weights, best epoch and history of one that ran through (a session's jobs end with it).
+TEST(DisplacementTorch, ResumedTrainingEqualsAnUninterruptedOne) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("hdvio_resume_test_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  DisplacementTrainOptions o = shortRun(3e-3);
+  o.max_epochs = 5;
+  o.patience = 5;
+  o.max_minutes = 1.0;
+  const auto run = [&](const std::string& folder, int epochs, bool resume) {
+    DisplacementTrainOptions r = o;
+    r.max_epochs = epochs;
+    r.checkpoint_dir = (dir / folder).string();
+    r.resume = resume;
+    std::filesystem::create_directories(r.checkpoint_dir);
+    DisplacementTrainer trainer(smallTcn(), r);
+    std::ostringstream log;
+    return trainer.train({syntheticFlight(0.0)}, {syntheticFlight(7.0)}, log);
+  };
+  const auto through = run("through", 5, false);
+  run("stopped", 2, false);
+  const auto resumed = run("stopped", 5, true);
+  EXPECT_EQ(resumed.best_epoch, through.best_epoch);
+  ASSERT_EQ(resumed.history.size(), through.history.size());
+  for (std::size_t e = 0; e < through.history.size(); ++e)
+    EXPECT_EQ(resumed.history[e].validation_loss, through.history[e].validation_loss) << e;
+  EXPECT_EQ(formatTcnWeights(resumed.best), formatTcnWeights(through.best));
+  // Without a checkpoint there is nothing to resume.
+  EXPECT_THROW(run("empty", 5, true), std::invalid_argument);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(DisplacementTorch, TinyRunReducesValidationError) {

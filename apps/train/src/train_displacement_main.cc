@@ -11,10 +11,12 @@
 #include <iomanip>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <iostream>
 #include <sstream>
 
 #include <gflags/gflags.h>
+#include <yaml-cpp/yaml.h>
 
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
@@ -36,6 +38,8 @@ DEFINE_int32(epochs, 0, "> 0: train exactly this many epochs on all of data.trai
              "and keep the last weights; needs --output_sigma");
 DEFINE_string(output_sigma, "", "x,y,z [m] written as output_sigma with --epochs (from the folds)");
 DEFINE_int32(save_every, 0, "> 0: also write epoch_<e>.tcn every this many epochs into --checkpoint_dir");
+DEFINE_bool(resume, false, "continue the training in --checkpoint_dir after its last finished epoch "
+            "(resume.pt; the same --config): the weights of an uninterrupted run");
 DEFINE_int32(benchmark_batches, 0, "> 0: print training windows per second (1 and 2 threads) of this "
              "many batches instead of training (--out is not written)");
 
@@ -117,7 +121,22 @@ int run() {
   }
   options.kind = learned::displacementInputKindFromString(inputs);
   options.checkpoint_dir = FLAGS_checkpoint_dir;
-  if (!options.checkpoint_dir.empty()) {
+  options.resume = FLAGS_resume;
+  if (FLAGS_resume) {
+    const std::string state = FLAGS_checkpoint_dir + "/resume.pt", effective = FLAGS_checkpoint_dir + "/effective.yaml";
+    if (FLAGS_checkpoint_dir.empty() || !std::filesystem::exists(state))
+      throw InputError(state, 0, "--resume needs the resume.pt of an earlier run in --checkpoint_dir");
+    // The run may be made longer (max_epochs, max_minutes); anything else must be as trained.
+    const auto recipe = [](YAML::Node n) {
+      if (n["training"]) n["training"].remove("max_epochs"), n["training"].remove("max_minutes");
+      return YAML::Dump(n);
+    };
+    std::ifstream in(effective);
+    const std::string before((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (recipe(YAML::Load(before)) != recipe(YAML::Load(config.effectiveYaml())))
+      throw InputError(FLAGS_config, 0, "--resume: the config differs from the one the checkpoint was trained with (" +
+                                            effective + "; only training.max_epochs and max_minutes may change)");
+  } else if (!options.checkpoint_dir.empty()) {
     std::filesystem::create_directories(options.checkpoint_dir);
     std::ofstream(options.checkpoint_dir + "/effective.yaml") << config.effectiveYaml();
   }

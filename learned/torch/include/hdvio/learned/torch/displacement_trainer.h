@@ -52,7 +52,10 @@ struct DisplacementTrainOptions {
   // > 0 (with checkpoint_dir): epoch_<e>.tcn every this many epochs, a displacement weight file
   // whose output_sigma is that epoch's per-axis validation RMSE (cross-validation folds).
   int save_every = 0;
-  std::string checkpoint_dir;          // "" = none; else best.tcn at each improvement
+  std::string checkpoint_dir;          // "" = none; else best.tcn at each improvement and
+                                       // resume.pt after every epoch (weights, Adam, RNG, history)
+  bool resume = false;                 // continue from checkpoint_dir/resume.pt: the same weights
+                                       // as a run that was never interrupted
 };
 
 struct DisplacementEpoch {
@@ -109,6 +112,15 @@ class DisplacementTrainer {
   torch::Tensor loss(const torch::Tensor& prediction, const torch::Tensor& target) const;
   // The batch's augmented inputs (B x 6 x W) and targets (B x 3).
   std::pair<torch::Tensor, torch::Tensor> augment(const DisplacementSet& set, const torch::Tensor& idx) const;
+
+  // resume.pt in the checkpoint folder: after `epoch`, the module, Adam, torch's CPU generator,
+  // the best epoch and loss and the history; written atomically.
+  void saveResumeState(int epoch, int best_epoch, double best_loss, torch::optim::Adam& optimizer,
+                       const std::vector<DisplacementEpoch>& history);
+  // Restores what saveResumeState wrote; returns where the loop picks up. Throws
+  // std::invalid_argument when the folder has no such file.
+  struct Resumed;
+  Resumed loadResumeState(torch::optim::Adam& optimizer, std::vector<DisplacementEpoch>* history);
 
   TcnArchitecture arch_;
   DisplacementTrainOptions options_;

@@ -25,10 +25,21 @@ struct EpochLoopResult {
   Tcn best;  // weights of the best validation epoch
 };
 
+// Where a resumed run picks up: the next epoch to run and the best so far.
+struct EpochLoopStart {
+  int epoch = 0;
+  double best_loss = 0.0;
+  EpochLoopResult best;
+};
+
 // run_epoch(epoch, log) trains when epoch > 0, validates, logs its own columns (without a line
 // end) and returns the validation loss. The loop appends " *" on improvement and the line end.
+// end_of_epoch (optional) sees each finished epoch with the best so far (a resumable checkpoint).
+// start (optional): continue a run instead of beginning at epoch 0.
+using EpochEnd = std::function<void(int epoch, const EpochLoopResult& best, double best_loss)>;
 EpochLoopResult runEpochLoop(const EpochLoopOptions& options, TcnModule& module,
                              const std::function<double(int epoch, std::ostream& log)>& run_epoch,
-                             std::ostream& log);
+                             std::ostream& log, const EpochEnd& end_of_epoch = nullptr,
+                             const EpochLoopStart* start = nullptr);
 
 }  // namespace hdvio::learned
