@@ -247,10 +247,16 @@ int main(int argc, char** argv) {
                                 ", validation loss " + std::to_string(best.validation_loss);
     // What the estimator must be told about the model: how fast its error on the validation
     // part moves (learned/force_model_error.h), the least walk of the external force.
+    // Flights without an accelerometer (supervision needs only positions and velocities) say
+    // nothing about it; with none, the file states no walk.
     std::vector<std::vector<Vec3>> errors;
-    for (const auto& f : validation_flights) errors.push_back(learned::forceModelError(f, &result.best, drag));
+    for (const auto& f : validation_flights)
+      if (f.force.size() == f.size()) errors.push_back(learned::forceModelError(f, &result.best, drag));
     const double walk = learned::modelErrorWalk(errors, arch.sample_rate_hz);
-    std::printf("model error walk on the validation part: %.4g m/s^2/sqrt(s)\n", walk);
+    if (errors.empty())
+      std::printf("model error walk: no measured force on the validation part, none written\n");
+    else
+      std::printf("model error walk on the validation part: %.4g m/s^2/sqrt(s)\n", walk);
     if (drag.enabled() || walk > 0.0) {  // version 3 carries the law, 5 the walk
       learned::TcnFileInfo info;
       info.drag_law = drag;
