@@ -106,20 +106,21 @@ FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPri
     if (prior.T_WB) T_cur_last_guess = bodyToCamera(*prior.T_WB) * last_frame_->T_cw.inverse();
 
     const bool pose_fixed = stage_ == TrackingStage::kBootstrapping && prior.T_WB.has_value();
-    tracked = trackAgainst(frame, *last_frame_, T_cur_last_guess, rotation_prior, pose_fixed,
-                           &result);
     bool depth_filter_done = false;
-    if (pose_fixed && !tracked) {
-      // A map started at speed: its provisional landmarks, still at the last image's depths,
-      // miss. On the given pose the seeds can be searched along their epipolar lines first;
-      // the landmarks follow them and are matched again where they are.
+    if (pose_fixed) {
+      // A map bootstrapping on the backend's poses: its provisional landmarks still sit at the
+      // depths of the last image (init_depth at first), which at speed puts them pixels off.
+      // The seeds are searched along their epipolar lines on the given pose first, and the
+      // landmarks that follow them are matched where the seeds found them.
+      frame->T_cw = T_cur_last_guess * last_frame_->T_cw;
       t0 = Clock::now();
       updateDepthFilter(*frame);
       result.timing.depth_filter_ms = msSince(t0);
       depth_filter_done = true;
-      trackAgainst(frame, *last_frame_, T_cur_last_guess, rotation_prior, pose_fixed, &result);
-      tracked = true;  // a backend pose is a pose even when few landmarks matched
     }
+    tracked = trackAgainst(frame, *last_frame_, T_cur_last_guess, rotation_prior, pose_fixed,
+                           &result);
+    if (pose_fixed) tracked = true;  // a backend pose is a pose even when few landmarks matched
     if (stage_ == TrackingStage::kBootstrapping) {
       ++bootstrap_frames_;
       if (!tracked) {

@@ -503,18 +503,26 @@ TEST(VisualPipelineEuroc, DefaultStartOnTheHoverFallsBackToStatic) {
   const std::string path = std::string(HDVIO_DATA_DIR) + "/euroc/V1_01_easy_excerpt";
   if (!fs::exists(path)) GTEST_SKIP() << "no " << path;
   const Sequence seq = io::readAsl(path);
-  const auto out = runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio),
-                                       VioRunOptions(), VisualFrontendConfig(), nullptr,
-                                       /*log=*/false);
-  EXPECT_EQ(out.vio.start, StartKind::kStaticAtRest);
-  EXPECT_LT(secondsBetween(seq.images.front().t, out.vio.start_t), 0.6);
-  EXPECT_GT(out.vio.states.size(), 80u);
-  // The hover is IMU-dominated (few landmarks triangulate); the bounds, those of the
-  // ground-truth start above, catch a diverging start, not the accuracy of a moving flight.
-  // Measured 0.014 m with Ceres' default initial trust region, 0.24 m (5 images lost near the
-  // end) with the backend's 1e8 (docs/vi_initialization.md).
-  EXPECT_LE(out.lost_images, 10);
-  EXPECT_LT(alignedPositionRms(seq, out.vio.states), 0.4);
+  // The hover is IMU-dominated (few landmarks triangulate), so one run's error is one draw of
+  // a chaotic process: 0.03-0.32 m over image-noise seeds, and a change of round-off anywhere
+  // moves it within that range. The bound is on the mean over four seeds; it catches a
+  // diverging start, not the accuracy of a moving flight.
+  double sum = 0.0;
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    VioRunOptions run;
+    run.image_noise_sigma = 1.0;
+    run.seed = seed;
+    const auto out = runVioOnImages(seq, defaultVioBackendOptions(VioMethod::kVio), run,
+                                    VisualFrontendConfig(), nullptr, /*log=*/false);
+    EXPECT_EQ(out.vio.start, StartKind::kStaticAtRest);
+    EXPECT_LT(secondsBetween(seq.images.front().t, out.vio.start_t), 0.6);
+    EXPECT_GT(out.vio.states.size(), 80u);
+    EXPECT_LE(out.lost_images, 10);
+    const double rms = alignedPositionRms(seq, out.vio.states);
+    std::printf("seed %u: %.4f m\n", seed, rms);
+    sum += rms;
+  }
+  EXPECT_LT(sum / 4, 0.25);
 }
 
 }  // namespace
