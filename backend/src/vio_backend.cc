@@ -21,9 +21,7 @@ SmootherOptions smootherOptions(const VioBackendOptions& o) {
   SmootherOptions s;
   s.optimizer.max_iterations = o.max_iterations;
   s.optimizer.max_time_s = o.max_solver_time_s;
-  s.optimizer.linear_solver = o.linear_solver == "dense_schur"    ? ceres::DENSE_SCHUR
-                              : o.linear_solver == "sparse_schur" ? ceres::SPARSE_SCHUR
-                                                                  : ceres::SPARSE_NORMAL_CHOLESKY;
+  s.optimizer.linear_solver = o.linear_solver;
   if (o.landmarks_first) s.optimizer.eliminate_first = {L(0).letter()};
   s.optimizer.function_tolerance = o.function_tolerance;
   s.optimizer.initial_trust_region_radius = o.initial_trust_region_radius;
@@ -334,11 +332,11 @@ void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_inform
     Track& track = it->second;
     const bool observed = track.obs.count(index) > 0;
     const bool still_tracked = !track.factors.empty() && track.factors.rbegin()->first >= first_recent;
-    const std::string& rule = options_.landmark_marginalization;
+    const LandmarkMarginalization rule = options_.landmark_marginalization;
     if (observed && track.in_graph && keep_landmark_information &&
-        !(rule == "untracked" && still_tracked) && track.obs.begin()->first == index &&
-        track.factors.count(index)) {
-      if (rule == "keyframes") {
+        !(rule == LandmarkMarginalization::kUntracked && still_tracked) &&
+        track.obs.begin()->first == index && track.factors.count(index)) {
+      if (rule == LandmarkMarginalization::kKeyframes) {
         for (auto f = track.factors.begin(); f != track.factors.end();) {
           if (keyframe_of(f->first)) {
             ++f;

@@ -67,8 +67,10 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   c.readInRange("outlier_threshold_px", &o.outlier_threshold_px, 0.1, 1000.0);
   c.readInRange("min_triangulation_angle_deg", &o.min_triangulation_angle_deg, 0.0, 45.0);
   c.readInRange("max_landmarks", &o.max_landmarks, 1, 100000);
-  c.readChoice("landmark_marginalization", &o.landmark_marginalization,
-               {"all", "keyframes", "untracked"});
+  c.readEnum("landmark_marginalization", &o.landmark_marginalization,
+             {{"all", LandmarkMarginalization::kAll},
+              {"keyframes", LandmarkMarginalization::kKeyframes},
+              {"untracked", LandmarkMarginalization::kUntracked}});
   c.readInRange("max_iterations", &o.max_iterations, 1, 1000);
   c.readInRange("function_tolerance", &o.function_tolerance, 1e-12, 1e-1);
   c.readInRange("initial_trust_region_radius", &o.initial_trust_region_radius, 1e-3, 1e16);
@@ -78,8 +80,10 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
     throw InputError(c.file(), 0,
                      "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +
                          "max_trust_region_radius': must be >= initial_trust_region_radius");
-  c.readChoice("linear_solver", &o.linear_solver,
-               {"dense_schur", "sparse_schur", "sparse_normal_cholesky"});
+  c.readEnum("linear_solver", &o.linear_solver,
+             {{"dense_schur", ceres::DENSE_SCHUR},
+              {"sparse_schur", ceres::SPARSE_SCHUR},
+              {"sparse_normal_cholesky", ceres::SPARSE_NORMAL_CHOLESKY}});
   c.readOptional("landmarks_first", &o.landmarks_first);
   c.readInRange("max_solver_time_s", &o.max_solver_time_s, 1e-4, 1e4);
   c.readInRange("gyro_noise_density", &o.imu.gyro_noise_density, 1e-12, 1.0);

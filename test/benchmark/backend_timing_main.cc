@@ -3,6 +3,7 @@
 // other jobs on the machine inflate it little) and prints median / p90 / max per frame and per
 // keyframe update, the window size and a quick accuracy check (position RMSE after aligning
 // position and yaw at the first state; the reported ATE comes from hdvio_eval).
+#include <ceres/types.h>
 #include <gflags/gflags.h>
 
 #include <algorithm>
@@ -71,7 +72,9 @@ int run() {
     throw InputError(FLAGS_config, 0, e.what());
   }
   VioBackendOptions options = loadVioBackendOptions(config.optionalSection("backend"), method);
-  if (!FLAGS_linear_solver.empty()) options.linear_solver = FLAGS_linear_solver;
+  if (!FLAGS_linear_solver.empty() &&
+      !ceres::StringToLinearSolverType(FLAGS_linear_solver, &options.linear_solver))
+    throw InputError("", 0, "--linear_solver: unknown solver '" + FLAGS_linear_solver + "'");
   if (FLAGS_max_iterations > 0) options.max_iterations = FLAGS_max_iterations;
   if (!FLAGS_landmarks_first.empty()) options.landmarks_first = FLAGS_landmarks_first == "true";
   VioRunOptions run;
@@ -115,7 +118,7 @@ int run() {
   }
   std::printf("%s on %s: %zu frames, %s init, linear solver %s, max %d iterations\n",
               toString(method).c_str(), seq.name.c_str(), all.size(),
-              run.init_from_groundtruth ? "ground-truth" : "static", options.linear_solver.c_str(),
+              run.init_from_groundtruth ? "ground-truth" : "static", ceres::LinearSolverTypeToString(options.linear_solver),
               options.max_iterations);
   print("per frame, CPU", statsOf(all), "ms");
   print("per keyframe update, CPU", statsOf(key), "ms");

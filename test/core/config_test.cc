@@ -80,6 +80,21 @@ TEST(Config, WrongTypeAndRangeAndChoiceAreErrors) {
   EXPECT_THAT(errorOf([&] { cfg.read("absent", &x); }), HasSubstr("required key is missing"));
 }
 
+TEST(Config, EnumsAreReadByNameAndWrittenByName) {
+  enum class Loss { kNone, kHuber, kCauchy };
+  const std::vector<std::pair<std::string, Loss>> names{
+      {"none", Loss::kNone}, {"huber", Loss::kHuber}, {"cauchy", Loss::kCauchy}};
+  auto cfg = ConfigReader::fromString("loss: cauchy\nbad: fast\n", "e.yaml");
+  Loss loss = Loss::kHuber, other = Loss::kNone, bad = Loss::kNone;
+  cfg.readEnum("loss", &loss, names);
+  EXPECT_EQ(loss, Loss::kCauchy);
+  cfg.readEnum("absent", &other, names);  // the default stays and is written by its name
+  EXPECT_EQ(other, Loss::kNone);
+  EXPECT_THAT(cfg.effectiveYaml(), HasSubstr("absent: none"));
+  EXPECT_THAT(errorOf([&] { cfg.readEnum("bad", &bad, names); }),
+              HasSubstr("e.yaml:2: key 'bad': 'fast' is not one of: none, huber, cauchy"));
+}
+
 TEST(Config, RepeatedKeysAreErrors) {
   EXPECT_EQ(errorOf([] { ConfigReader::fromString("a: 1\nsub:\n  b: 2\n  b: 3\n", "d.yaml"); }),
             "d.yaml:4: key 'b' repeats the one on line 3");

@@ -3,6 +3,8 @@
 // experiment YAML (strict: unknown keys are errors).
 #include <string>
 
+#include <ceres/types.h>
+
 #include "hdvio/backend/adaptive_force_walk.h"
 #include "hdvio/core/config.h"
 #include "hdvio/core/sequence.h"
@@ -22,6 +24,12 @@ VioMethod parseVioMethod(const std::string& name);  // throws std::invalid_argum
 std::string toString(VioMethod method);
 inline bool usesDynamics(VioMethod m) { return m != VioMethod::kVio; }
 
+// What a keyframe's landmarks put into the prior when the keyframe leaves the window:
+// kAll: every observation (VINS-Mono); kKeyframes: their keyframe observations (the prior spans
+// the keyframes only); kUntracked: only landmarks no recent state sees leave, the others lose
+// the leaving observation (OKVIS). docs/backend.md compares them.
+enum class LandmarkMarginalization { kAll, kKeyframes, kUntracked };
+
 struct VioBackendOptions {
   VioMethod method = VioMethod::kVio;
   int num_keyframes = 10;    // L
@@ -40,7 +48,7 @@ struct VioBackendOptions {
   // At most this many landmarks in the window (a frontend's feature budget); new landmarks with
   // the longest tracks enter first. Keeps the per-frame cost bounded in rich scenes.
   int max_landmarks = 150;
-  std::string landmark_marginalization = "keyframes";  // all | keyframes | untracked
+  LandmarkMarginalization landmark_marginalization = LandmarkMarginalization::kKeyframes;
 
   int max_iterations = 8;
   double function_tolerance = 1e-5;  // relative cost decrease that ends the solve early
@@ -53,7 +61,7 @@ struct VioBackendOptions {
   double max_trust_region_radius = 1e8;
   bool trust_region_warm_start = true;
   // Landmarks are eliminated first (Schur complement) unless sparse_normal_cholesky is chosen.
-  std::string linear_solver = "dense_schur";  // dense_schur | sparse_schur | sparse_normal_cholesky
+  ceres::LinearSolverType linear_solver = ceres::DENSE_SCHUR;  // or SPARSE_SCHUR, SPARSE_NORMAL_CHOLESKY
   // Schur solvers eliminate exactly the landmarks (fixed 2x3x6 blocks, Ceres' specialized
   // eliminator); false lets Ceres choose the independent set itself.
   bool landmarks_first = true;

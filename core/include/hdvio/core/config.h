@@ -5,6 +5,7 @@
 // defaults included, for writing next to results.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
@@ -30,6 +31,21 @@ class ConfigReader {
                   bool required = false) const;
   void readChoice(const std::string& key, std::string* value,
                   const std::vector<std::string>& choices, bool required = false) const;
+  // A choice read by name straight into its enum (the names are what the YAML and the
+  // effective configuration show); *value is the default and must be one of the choices.
+  template <class E>
+  void readEnum(const std::string& key, E* value,
+                const std::vector<std::pair<std::string, E>>& choices) const {
+    std::string name;
+    std::vector<std::string> names;
+    for (const auto& [n, e] : choices) {
+      names.push_back(n);
+      if (e == *value) name = n;
+    }
+    readChoice(key, &name, names);
+    for (const auto& [n, e] : choices)
+      if (n == name) *value = e;
+  }
 
   ConfigReader section(const std::string& key) const;  // nested map, required
   // Nested map if present, else an empty one, so every default read from it is still written
