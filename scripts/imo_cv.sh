@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Cross-validated IMO network on Blackbird (issue 21), nothing chosen on `val`:
-#  1. train the folds of config/learned/imo_cv_blackbird.yaml (contiguous blocks of `train`),
-#     one at a time, one thread, nice 10 (a fold whose history.csv exists is kept);
+# Cross-validated IMO displacement network, for training data without a separate validation
+# flight (the folds replace it):
+#  1. train the folds of the training config (data.cross_validation_folds: contiguous blocks of
+#     each flight, or whole flights with cross_validation_by: flights), one at a time, one
+#     thread, nice 10 (a fold whose history.csv exists is kept);
 #  2. choose the epoch count and the output sigma on the folds (scripts/imo_cv_select.py);
-#  3. run the filter with each fold's network at that epoch on its held-out block of `train`
+#  3. run the filter with each fold's network at that epoch on what the fold held out
 #     (innovations.csv -> NIS, ATE): choose the attitude error convention (right / left) and
 #     the network window's biases (the filter's estimate / the initial ones, as the release) by
 #     the mean fold ATE, then calibrate the per-axis sigma so the NIS is ~1 per axis (two
@@ -11,15 +13,15 @@
 #  4. train the final network (<work dir>/final.tcn) on all of the training data with that epoch
 #     count and sigma.
 # Usage (from the repository root, data under ../shared/data):
-#   scripts/imo_cv.sh <build dir with libtorch> <work dir> [training config]
-# (default config/learned/imo_cv_blackbird.yaml; with cross_validation_by: flights, as
-# config/learned/imo_cv_dido.yaml, the filter runs on each fold's held-out flights, whole).
+#   scripts/imo_cv.sh <build dir with libtorch> <work dir> <training config>
+# e.g. config/learned/imo_cv_dido.yaml (flight-wise folds: the filter runs on each fold's
+# held-out flights, whole).
 # With IMO_CV_COMPARE=1 it stops after step 3's convention runs (comparing training recipes
 # by their folds' filter ATE at the pooled held-out sigma, before any calibration); with
 # IMO_CV_SKIP_FINAL=1 after the calibration and the gate's choice (no final network).
 # IMO_CV_UPDATE_RATE sets the filter's update rate in every fold run (default 20 Hz, shipped).
 set -euo pipefail
-B=${1:?build dir}; W=${2:?work dir}; CFG=${3:-config/learned/imo_cv_blackbird.yaml}
+B=${1:?build dir}; W=${2:?work dir}; CFG=${3:?training config}
 DATA=../shared/data
 FOLDS=$(sed -n 's/^ *cross_validation_folds: *\([0-9]*\).*/\1/p' $CFG)
 THRUST=$(sed -n 's/^ *thrust_coefficient: *\([0-9.eE+-]*\).*/\1/p' $CFG)
@@ -71,9 +73,9 @@ YAML
   python3 scripts/innovation_stats.py "$W"/run_fold*_${tag}_*[0-9]
 }
 # The filter's attitude error convention and window biases, by the folds' mean ATE. The defaults
-# (right, estimated: the first of the list) stay unless a setting is at least 1 % better: on the
-# Blackbird folds the four differ by 0.3 %, while four draws of the initial weights of one
-# recipe span 0.130-0.145 m (docs/imo_network.md).
+# (right, estimated: the first of the list) stay unless a setting is at least 1 % better: on
+# Blackbird folds the four differed by 0.3 %, while four draws of the initial weights of one
+# recipe spanned 0.130-0.145 m (docs/lab/imo_cross_validated_blackbird.md).
 SETTINGS="right,false left,false right,true left,true"
 for s in $SETTINGS; do run_folds "${s/,/_wb}" ${s%,*} ${s#*,} "$SIGMA"; done | tee "$W/folds_filter.txt"
 mean_ate() { grep "^$1 fold" "$W/folds_filter.txt" | awk '{s += $NF} END {printf "%.4f", s / NR}'; }

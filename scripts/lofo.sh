@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Leave-one-flight-out cross-validation of one residual-force experiment (issue 19).
+# Leave-one-flight-out cross-validation of one residual-force experiment.
 #   scripts/lofo.sh <experiment.yaml> <out_dir> [data_root]
 # The experiment is an hdvio_train config whose data.train lists all flights. Fold i trains on
 # every flight but the i-th (hdvio_train --hold_out i; with data.refit_thrust_coefficient the

@@ -1,4 +1,4 @@
-// hdvio from a static start in wind, before any landmark enters the window (issue #17,
+// hdvio from a static start in wind, before any landmark enters the window (as on
 // random_v10_wind): the first state's velocity and tilt are guesses with loose priors, and
 // the window has only IMU and dynamics factors. With the drag law at the estimated velocity
 // and a tight thrust model, a dynamics factor that held the external force constant over each

@@ -276,7 +276,7 @@ TEST(VioStarter, MovingStartIsVisualInertial) {
 // The first state's priors follow the start (VisualEstimator): a visual-inertial start is an
 // estimate and keeps the backend's init sigmas; a static start's zero velocity and tilt are
 // guesses and get run.guess_*. Loose priors after a visual-inertial start let a young map pull
-// the window away (docs/visual_pipeline_studies.md "The visual-inertial start's priors").
+// the window away (docs/vi_initialization.md "Start policy").
 TEST(VioStarter, VisualInertialStartKeepsTheBackendsPriorsStaticGetsTheGuess) {
   const Sequence& seq = movingFlight().sequence;
   const auto startOf = [&](const VioRunOptions& run) {

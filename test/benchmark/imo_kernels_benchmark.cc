@@ -1,4 +1,4 @@
-// Per-call cost of the IMO filter's parts (issue #8's "300x real time on one core"): one IMU
+// Per-call cost of the IMO filter's parts (they set its real-time factor on one core): one IMU
 // propagation step, one grid step at steady state (clone, displacement update between the
 // clones one window apart, marginalization of the oldest clone), and the displacement
 // network's forward pass over one window (the shipped architecture, random weights).

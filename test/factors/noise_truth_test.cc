@@ -1,4 +1,4 @@
-// The preintegration factors' noiseModel() is their real covariance (issue 18): what anything
+// The preintegration factors' noiseModel() is their real covariance: what anything
 // reading the model sees (marginalization, diagnostics, covariance recovery) is the
 // preintegrated covariance, and it is the model that whitens what Ceres sees.
 #include <gtest/gtest.h>

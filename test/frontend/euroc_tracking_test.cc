@@ -1,4 +1,4 @@
-// Must-show 1: every one of the 95 real EuRoC V1_01 excerpt images is tracked without loss.
+// Every one of the 95 real EuRoC V1_01 excerpt images is tracked without loss.
 #include <gtest/gtest.h>
 
 #include <filesystem>

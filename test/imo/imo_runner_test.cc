@@ -161,7 +161,8 @@ TEST(ImoRunner, ExactDisplacementsCorrectNoisyBiasedImu) {
 
 // The logged innovations: one per update at its grid time; their normalized squares average
 // ~3 (1 per axis) when the measurement sigma is the displacement noise, and far more when the
-// sigma understates it (what the NIS report of docs/imo_network.md relies on).
+// sigma understates it (what scripts/innovation_stats.py and the sigma calibration of
+// scripts/imo_cv.sh rely on).
 TEST(ImoRunner, InnovationsAreLoggedAndTheirNisMatchesTheMeasurementNoise) {
   auto imu = simulateImu(400.0, 20.0);
   std::mt19937 rng(3);

@@ -157,7 +157,8 @@ TEST(DisplacementTorch, SameOptionsTrainTheSameWeights) {
 }
 
 // A training stopped after any epoch and resumed from its checkpoint folder ends with the
-// weights, best epoch and history of one that ran through (a session's jobs end with it).
+// weights, best epoch and history of one that ran through (long trainings can be killed and
+// continued).
 TEST(DisplacementTorch, ResumedTrainingEqualsAnUninterruptedOne) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("hdvio_resume_test_" + std::to_string(::getpid()));

@@ -1,4 +1,4 @@
-// gate_io (issue #10, docs/gate_io.md): the IMO error-state EKF propagated with the IMU and
+// gate_io (docs/gate_io.md): the IMO error-state EKF propagated with the IMU and
 // corrected at every camera frame by the reprojections of known race-gate corners, read from
 // the sequence's gates0/ and gate_corners0/ (simulated races). `displacement: network` also
 // fuses a displacement network's relative-position measurements as the imo method does.

@@ -1,10 +1,11 @@
 // hdvio_train_displacement: trains the IMO (thrust + gyro) or TLIO-style (accelerometer +
-// gyro) displacement network with libtorch and writes a version-2 weight file
-// (task displacement, output_sigma = per-axis RMSE on the held-out blocks or flights). With
-// data.validation flights the epoch is chosen on them (as the IMO release does on `val`). With
-// data.cross_validation_folds, --fold k trains fold k (early stopping on its block, history.csv
-// and epoch checkpoints for scripts/imo_cv_select.py) and --epochs N --output_sigma x,y,z the
-// final network on the whole flights. --benchmark_batches measures training throughput.
+// gyro) displacement network with libtorch and writes a version-2 weight file (version 4 for
+// the release architecture; task displacement, output_sigma = per-axis RMSE on the held-out
+// blocks or flights). With data.validation flights the epoch is chosen on them (as the IMO
+// release does on `val`). With data.cross_validation_folds, --fold k trains fold k (early
+// stopping on its block, history.csv and epoch checkpoints for scripts/imo_cv_select.py) and
+// --epochs N --output_sigma x,y,z the final network on the whole flights. --benchmark_batches
+// measures training throughput.
 // docs/imo_network.md.
 #include <array>
 #include <cstdio>

@@ -30,7 +30,7 @@ VisualEstimatorOptions withStartPriors(VisualEstimatorOptions o) {
 // initialization are estimates within the backend's init sigmas (0.1 m/s, 0.02 rad; the VI
 // initialization's largest errors on the rendered start flights are 0.06-0.10 m/s and
 // 0.35-0.87 deg, docs/vi_initialization.md); loose priors there let a young map pull the
-// window away (docs/visual_pipeline_studies.md "The visual-inertial start's priors").
+// window away (docs/vi_initialization.md "Start policy").
 VioBackend::StartUncertainty startPriorFor(StartKind kind, const VisualEstimatorOptions& o) {
   VioBackend::StartUncertainty u{o.backend.init_velocity_sigma, o.backend.init_tilt_sigma};
   if (kind == StartKind::kGroundTruth || kind == StartKind::kVisualInertial) return u;
