@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Cross-validated IMO displacement network, for training data without a separate validation
 # flight (the folds replace it):
-#  1. train the folds of the training config (data.cross_validation_folds: contiguous blocks of
-#     each flight, or whole flights with cross_validation_by: flights), one at a time, one
-#     thread, nice 10 (a fold whose history.csv exists is kept);
+#  1. train the folds of the training config (data.cross_validation_folds: fold k holds out the
+#     training flights at list positions i % folds == k), one at a time, one thread, nice 10 (a
+#     fold whose history.csv exists is kept);
 #  2. choose the epoch count and the output sigma on the folds (scripts/imo_cv_select.py);
-#  3. run the filter with each fold's network at that epoch on what the fold held out
+#  3. run the filter with each fold's network at that epoch on the flights the fold held out
 #     (innovations.csv -> NIS, ATE): choose the attitude error convention (right / left) and
 #     the network window's biases (the filter's estimate / the initial ones, as the release) by
 #     the mean fold ATE, then calibrate the per-axis sigma so the NIS is ~1 per axis (two
@@ -14,8 +14,7 @@
 #     count and sigma.
 # Usage (from the repository root, data under ../shared/data):
 #   scripts/imo_cv.sh <build dir with libtorch> <work dir> <training config>
-# e.g. config/learned/imo_cv_dido.yaml (flight-wise folds: the filter runs on each fold's
-# held-out flights, whole).
+# e.g. config/learned/imo_cv_dido.yaml (the filter runs on each fold's held-out flights, whole).
 # With IMO_CV_COMPARE=1 it stops after step 3's convention runs (comparing training recipes
 # by their folds' filter ATE at the pooled held-out sigma, before any calibration); with
 # IMO_CV_SKIP_FINAL=1 after the calibration and the gate's choice (no final network).
@@ -36,19 +35,15 @@ folds=(); for ((k = 0; k < FOLDS; ++k)); do folds+=("$W/fold$k"); done
 python3 scripts/imo_cv_select.py --save_every $SAVE_EVERY "${folds[@]}" | tee "$W/selection.txt"
 E=$(sed -n 's/^final: --epochs \([0-9]*\) .*/\1/p' "$W/selection.txt")
 SIGMA=$(sed -n 's/^final: .*--output_sigma \(.*\)$/\1/p' "$W/selection.txt")
-# Filter runs with fold k's network at epoch E on what fold k held out: its block of the
-# training flight (the trainer logged the sample range at 100 Hz) or its flights, whole
-# (logged "tests on this flight"): run_folds <tag> <rotation_error> <initial_window_biases>
+# Filter runs with fold k's network at epoch E on the flights fold k held out, whole (the trainer
+# logged "tests on this flight"): run_folds <tag> <rotation_error> <initial_window_biases>
 # <sigma x,y,z> [<mahalanobis_factor>, default -1: no gate].
 run_folds() {
   local tag=$1 rot=$2 wb=$3 sigma=$4 gate=${5:--1}
   for ((k = 0; k < FOLDS; ++k)); do
     local j=0
-    while read -r path b e; do
-      local run="$W/run_fold${k}_${tag}_$j" span=""
-      [ -n "$b" ] && span="run:
-  start_offset_s: $(echo "$b / 100" | bc -l)
-  duration_s: $(echo "($e - $b) / 100" | bc -l)"
+    while read -r path; do
+      local run="$W/run_fold${k}_${tag}_$j"
       cat > "$run.yaml" <<YAML
 method: imo
 network:
@@ -61,14 +56,12 @@ filter:
   initial_window_biases: $wb
   mahalanobis_factor: $gate
 $( [ "$THRUST" != "0.0" ] && printf 'thrust:\n  coefficient_over_mass: %s\n  axis: [0, 0, 1]' "$THRUST")
-$span
 YAML
       rm -rf "$run"
       "$B/apps/run/hdvio_run" --config "$run.yaml" --dataset "$DATA/$path" --out "$run" > "$run.log" 2>&1
       echo "$tag fold $k $path gated out $(sed -n 's/.* applied, \([0-9]*\) gated out.*/\1/p' "$run.log") ATE posyaw [m]: $(grep -m1 "^| imo |" "$run/evaluation/table.md" | cut -d"|" -f4)"
       j=$((j + 1))
-    done < <(sed -n -e 's/^\([^ ]*\): fold [0-9]* of [0-9]* tests on samples \[\([0-9]*\), \([0-9]*\)).*/\1 \2 \3/p' \
-                    -e 's/^\([^ ]*\): fold [0-9]* of [0-9]* tests on this flight$/\1/p' "$W/fold$k.log")
+    done < <(sed -n 's/^\([^ ]*\): fold [0-9]* of [0-9]* tests on this flight$/\1/p' "$W/fold$k.log")
   done
   python3 scripts/innovation_stats.py "$W"/run_fold*_${tag}_*[0-9]
 }

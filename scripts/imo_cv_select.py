@@ -2,9 +2,9 @@
 """Chooses the epoch count of the IMO displacement network from its cross-validation folds.
 
 Reads <fold dir>/history.csv of each fold (hdvio_train_displacement --fold k --checkpoint_dir
-<fold dir> --save_every s), averages the held-out-block MSE over the folds at every epoch all
+<fold dir> --save_every s), averages the held-out MSE over the folds at every epoch all
 folds reached (and that has an epoch_<e>.tcn when --save_every was used), and prints the epoch
-with the smallest mean, the per-axis RMSE pooled over the folds' held-out blocks at that epoch
+with the smallest mean, the per-axis RMSE pooled over the folds' held-out data at that epoch
 (the output_sigma of the final network) and the final training's flags.
     scripts/imo_cv_select.py --save_every 5 <fold0 dir> <fold1 dir> <fold2 dir>
 Standard library only. Bad input: one line "error: <file>:<line>: <problem>", exit 2.

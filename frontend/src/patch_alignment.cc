@@ -125,62 +125,6 @@ bool align2D(const cv::Mat& img, const BorderedPatch& ref, int max_iterations, V
   return false;
 }
 
-bool align2DAffine(const cv::Mat& img, const BorderedPatch& ref, int max_iterations,
-                   double max_distortion, Vec2* px) {
-  using Vec7 = Eigen::Matrix<double, 7, 1>;
-  using Mat7 = Eigen::Matrix<double, 7, 7>;
-  constexpr int kB = kBorderedPatch;
-  // Steepest-descent images of the template for (m11, m12, m21, m22, tx, ty, offset) with
-  // W(x) = (I + M) x + t over the offsets x from the patch center (align2D's convention).
-  Vec7 sd[kAlignPatch * kAlignPatch];
-  Mat7 H = Mat7::Zero();
-  for (int y = 0, k = 0; y < kAlignPatch; ++y) {
-    for (int x = 0; x < kAlignPatch; ++x, ++k) {
-      const int i = (y + 1) * kB + x + 1;
-      const double gx = 0.5 * (ref[i + 1] - ref[i - 1]), gy = 0.5 * (ref[i + kB] - ref[i - kB]);
-      const double dx = x - kAlignHalf, dy = y - kAlignHalf;
-      sd[k] << gx * dx, gx * dy, gy * dx, gy * dy, gx, gy, 1.0;
-      H += sd[k] * sd[k].transpose();
-    }
-  }
-  const Eigen::LDLT<Mat7> solver(H);
-  if (solver.info() != Eigen::Success || !(solver.vectorD().minCoeff() > 1e-3)) return false;
-  Eigen::Matrix2d A = Eigen::Matrix2d::Identity();
-  Eigen::Vector2d t = *px;
-  double offset = 0.0;
-  const double reach = kAlignHalf * (1.0 + max_distortion) + 2.0;
-  for (int it = 0; it < max_iterations; ++it) {
-    if (t.x() < reach || t.y() < reach || t.x() >= img.cols - reach || t.y() >= img.rows - reach)
-      return false;
-    Vec7 b = Vec7::Zero();
-    for (int y = 0, k = 0; y < kAlignPatch; ++y) {
-      for (int x = 0; x < kAlignPatch; ++x, ++k) {
-        const Eigen::Vector2d p = t + A * Eigen::Vector2d(x - kAlignHalf, y - kAlignHalf);
-        const double r = interpolate(img, static_cast<float>(p.x()), static_cast<float>(p.y())) -
-                         ref[(y + 1) * kB + x + 1] - offset;
-        b += r * sd[k];
-      }
-    }
-    const Vec7 d = solver.solve(b);
-    if (!d.allFinite()) return false;
-    // Inverse composition: W <- W o W(d)^-1.
-    Eigen::Matrix2d A_d;
-    A_d << 1.0 + d(0), d(1), d(2), 1.0 + d(3);
-    if (std::abs(A_d.determinant()) < 1e-6) return false;
-    const Eigen::Matrix2d A_new = A * A_d.inverse();
-    const Eigen::Vector2d step = A_new * d.segment<2>(4);
-    t -= step;
-    A = A_new;
-    offset += d(6);
-    if ((A - Eigen::Matrix2d::Identity()).norm() > max_distortion) return false;
-    if (step.squaredNorm() < 0.03 * 0.03) {
-      *px = t;
-      return true;
-    }
-  }
-  return false;
-}
-
 double zmssd(const cv::Mat& img, const BorderedPatch& ref, int x0, int y0) {
   double sum_ref = 0.0, sum_cur = 0.0, sum_sq = 0.0;
   for (int y = 0; y < kAlignPatch; ++y) {

@@ -29,7 +29,7 @@ const Landmark::Observation* closestView(const Landmark& lm, const Vec3& center_
 }
 
 bool alignToFrame(const CameraModel& camera, const Landmark& lm, const Landmark::Observation& obs,
-                  double max_affine_distortion, Frame* frame, Vec2* px, int* level_out) {
+                  Frame* frame, Vec2* px, int* level_out) {
   const Frame& kf = *obs.keyframe;
   const Feature& ref = kf.features[obs.feature];
   const Pose T_cur_ref = frame->T_cw * kf.T_cw.inverse();
@@ -42,8 +42,6 @@ bool alignToFrame(const CameraModel& camera, const Landmark& lm, const Landmark:
   if (!warpPatchFromPyramid(A, kf.pyramid, ref.px, ref.level, level, &patch)) return false;
   Vec2 p = *px / static_cast<double>(1 << level);
   if (!align2D(frame->pyramid[level], patch, 10, &p)) return false;
-  if (max_affine_distortion > 0.0)  // keeps p when the refinement fails
-    align2DAffine(frame->pyramid[level], patch, 10, max_affine_distortion, &p);
   const int finest = refineToFinerLevels(frame->pyramid, A, kf.pyramid, ref.px, ref.level, level, &p);
   *px = p * static_cast<double>(1 << finest);
   *level_out = finest;
@@ -53,8 +51,7 @@ bool alignToFrame(const CameraModel& camera, const Landmark& lm, const Landmark:
 }  // namespace
 
 ReprojectionStats reprojectMap(const CameraModel& camera, const FeatureGrid& grid, int max_features,
-                               int landmark_max_failures, double max_affine_distortion, Map* map,
-                               Frame* frame) {
+                               int landmark_max_failures, Map* map, Frame* frame) {
   ReprojectionStats stats;
   std::vector<std::vector<Candidate>> cells(grid.cells());
   for (auto& [id, lm] : map->landmarks) {
@@ -78,7 +75,7 @@ ReprojectionStats reprojectMap(const CameraModel& camera, const FeatureGrid& gri
       if (!obs) continue;
       Vec2 px = c.px;
       int level = 0;
-      if (!alignToFrame(camera, *c.landmark, *obs, max_affine_distortion, frame, &px, &level)) {
+      if (!alignToFrame(camera, *c.landmark, *obs, frame, &px, &level)) {
         ++stats.failed;
         if (++c.landmark->failed_alignments > landmark_max_failures)
           to_remove.push_back(c.landmark->id);

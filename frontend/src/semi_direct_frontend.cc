@@ -263,8 +263,7 @@ bool SemiDirectFrontend::trackAgainst(const FramePtr& frame, const Frame& ref,
 
   t0 = Clock::now();
   frame->features.clear();
-  reprojectMap(camera_, grid_, options_.max_features, options_.landmark_max_failures,
-               options_.max_affine_distortion, &map_,
+  reprojectMap(camera_, grid_, options_.max_features, options_.landmark_max_failures, &map_,
                frame.get());
   result->timing.reprojection_ms = msSince(t0);
 

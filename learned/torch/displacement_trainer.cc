@@ -132,13 +132,6 @@ Eigen::Vector3d DisplacementTrainer::pass(const DisplacementSet& set, torch::opt
   return mse;
 }
 
-double DisplacementTrainer::learningRate(int epoch) const {
-  const int n = options_.cosine_schedule_epochs;
-  if (n <= 0) return options_.learning_rate;
-  const double progress = std::min(1.0, static_cast<double>(epoch - 1) / static_cast<double>(n));
-  return 0.5 * options_.learning_rate * (1.0 + std::cos(M_PI * progress));
-}
-
 double DisplacementTrainer::trainingWindowsPerSecond(const std::vector<FlightSamples>& flights, int batches,
                                                      int threads, double* cpu_seconds) {
   torch::set_num_threads(threads);
@@ -276,10 +269,6 @@ DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSa
     const auto t0 = std::chrono::steady_clock::now();
     DisplacementEpoch s;
     s.epoch = epoch;
-    if (epoch > 0) {
-      for (auto& group : optimizer.param_groups())
-        static_cast<torch::optim::AdamOptions&>(group.options()).lr(learningRate(epoch));
-    }
     s.train_loss = pass(train_set, epoch > 0 ? &optimizer : nullptr).sum();
     s.validation_axis_mse = val_set.size() > 0 ? pass(val_set, nullptr) : Eigen::Vector3d::Constant(NAN);
     s.validation_loss = s.validation_axis_mse.sum();
@@ -297,7 +286,7 @@ DisplacementTrainingResult DisplacementTrainer::train(const std::vector<FlightSa
                   TcnEncoding::kFloat32);
     }
     out << "epoch " << std::setw(3) << epoch << "  train " << std::setprecision(5) << s.train_loss
-        << "  val " << s.validation_loss << " m^2  lr " << learningRate(std::max(epoch, 1)) << "  "
+        << "  val " << s.validation_loss << " m^2  lr " << options_.learning_rate << "  "
         << std::setprecision(3) << s.seconds << " s (process CPU "
         << static_cast<double>(std::clock()) / CLOCKS_PER_SEC / 60.0 << " min)";
     return s.validation_loss;

@@ -111,12 +111,6 @@ std::vector<double> Trainer::pass(const SegmentSet& set, torch::optim::Adam* opt
       const torch::Tensor offset = options_.gyro_bias_sigma * torch::randn({x.size(0), 3, 1});
       x = torch::cat({x.slice(1, 0, 3), x.slice(1, 3, 6) + offset}, 1);
     }
-    if (training && options_.thrust_scale_sigma > 0.0) {
-      // Thrust-scale augmentation: the network input sees a mis-scaled thrust model (a C_T
-      // error) while the targets keep the true one, so it must not lean on the exact scale.
-      const torch::Tensor scale = 1.0 + options_.thrust_scale_sigma * torch::randn({x.size(0), 1, 1});
-      x = torch::cat({x.slice(1, 0, 3) * scale, x.slice(1, 3, 6)}, 1);
-    }
     const torch::Tensor out = module_->forward(x).slice(2, W - 1, W + L);  // B x C x (L + 1)
     const torch::Tensor force = out.slice(1, 0, 3).transpose(1, 2);       // B x (L+1) x 3
     const torch::Tensor R = set.rotations.index_select(0, idx);
@@ -169,7 +163,7 @@ TrainingResult Trainer::train(const std::vector<FlightSamples>& train_flights,
       << ", segment " << train_set.length << " samples, parameters " << exportTcn(module_).parameterCount()
       << "\n";
 
-  torch::optim::Adam optimizer(module_->parameters(), torch::optim::AdamOptions(options_.learning_rate).weight_decay(options_.weight_decay));
+  torch::optim::Adam optimizer(module_->parameters(), torch::optim::AdamOptions(options_.learning_rate));
   TrainingResult result{{}, 0, exportTcn(module_)};
   const auto run_epoch = [&](int epoch, std::ostream& out) {
     const auto t0 = std::chrono::steady_clock::now();

@@ -237,34 +237,5 @@ TEST(DisplacementTorch, FixedEpochRunWithHuberLossKeepsTheLastEpoch) {
   EXPECT_LT((last->forwardLast(x) - trainer.module()->forwardLast(x)).abs().max().item<double>(), 1e-6);
 }
 
-TEST(DisplacementTorch, CosineScheduleDependsOnTheEpochOnlyAndReachesTheOptimizer) {
-  const TcnArchitecture a = smallTcn();
-  DisplacementTrainOptions o = shortRun(2e-3);
-  o.cosine_schedule_epochs = 4;
-  const DisplacementTrainer schedule(a, o);
-  EXPECT_DOUBLE_EQ(schedule.learningRate(1), 2e-3);
-  EXPECT_NEAR(schedule.learningRate(3), 1e-3, 1e-15);  // half way
-  EXPECT_DOUBLE_EQ(schedule.learningRate(5), 0.0);
-  EXPECT_DOUBLE_EQ(schedule.learningRate(9), 0.0);
-  o.cosine_schedule_epochs = 0;
-  EXPECT_DOUBLE_EQ(DisplacementTrainer(a, o).learningRate(9), 2e-3);
-  // A schedule of one epoch: epochs 2 and 3 step with lr 0, so 3 epochs end where 1 does (the
-  // same seed draws the same first epoch); a constant rate keeps moving.
-  const auto weights_after = [&](int epochs, int schedule_epochs) {
-    DisplacementTrainOptions r = o;
-    r.fixed_epochs = epochs;
-    r.cosine_schedule_epochs = schedule_epochs;
-    DisplacementTrainer trainer(a, r);
-    std::ostringstream log;
-    trainer.train({syntheticFlight(0.0)}, {}, log);
-    torch::NoGradGuard no_grad;
-    torch::manual_seed(3);
-    return trainer.module()->forwardLast(torch::randn({4, 6, 20}));
-  };
-  const torch::Tensor one = weights_after(1, 1);
-  EXPECT_LT((weights_after(3, 1) - one).abs().max().item<double>(), 1e-7);
-  EXPECT_GT((weights_after(3, 0) - one).abs().max().item<double>(), 1e-4);
-}
-
 }  // namespace
 }  // namespace hdvio::learned

@@ -29,30 +29,5 @@ TEST(FlightFolds, RejectsBadFoldsAndLists) {
   EXPECT_THROW(leaveOneFlightOut({"a", "b", "a"}, 1), std::invalid_argument);
 }
 
-TEST(FlightFolds, ContiguousBlocksTileTheFlightAndKeepTheGapFromTheTestBlock) {
-  const std::size_t n = 9103, gap = 50;
-  std::size_t tested = 0;
-  for (int i = 0; i < 4; ++i) {
-    const BlockFold f = contiguousBlockFold(n, 4, i, gap);
-    EXPECT_EQ(f.test.begin, tested);  // consecutive blocks cover [0, n) once
-    tested = f.test.end;
-    std::size_t trained = 0;
-    for (const SampleRange& r : f.train) {
-      EXPECT_LT(r.begin, r.end);
-      // Every training sample is at least `gap` samples away from the test block.
-      EXPECT_TRUE(r.end + gap <= f.test.begin || r.begin >= f.test.end + gap);
-      trained += r.end - r.begin;
-    }
-    const std::size_t cut = (i == 0 || i == 3) ? gap : 2 * gap;  // outer blocks lose one side
-    EXPECT_EQ(trained + (f.test.end - f.test.begin) + cut, n);
-    EXPECT_EQ(f.train.size(), (i == 0 || i == 3) ? 1u : 2u);
-  }
-  EXPECT_EQ(tested, n);
-  EXPECT_THROW(contiguousBlockFold(n, 1, 0, gap), std::invalid_argument);
-  EXPECT_THROW(contiguousBlockFold(n, 4, 4, gap), std::invalid_argument);
-  EXPECT_THROW(contiguousBlockFold(n, 4, -1, gap), std::invalid_argument);
-  EXPECT_THROW(contiguousBlockFold(200, 4, 0, gap), std::invalid_argument);
-}
-
 }  // namespace
 }  // namespace hdvio::learned

@@ -52,11 +52,9 @@ void loadDepthFilter(const ConfigReader& r, frontend::DepthFilterOptions* o) {
 
 VisualFrontendConfig loadVisualFrontendConfig(const ConfigReader& r) {
   VisualFrontendConfig c;
-  std::string source = "auto";
-  r.readChoice("source", &source, {"auto", "tracks", "images"});
-  c.source = source == "tracks"   ? ObservationSource::kTracks
-             : source == "images" ? ObservationSource::kImages
-                                  : ObservationSource::kAuto;
+  r.readEnum("source", &c.source,
+             {{"auto", ObservationSource::kAuto}, {"tracks", ObservationSource::kTracks},
+              {"images", ObservationSource::kImages}});
   r.readOptional("backend_pose_prior", &c.backend_pose_prior);
   r.readOptional("backend_feedback", &c.backend_feedback);
   r.readInRange("min_features_for_backend", &c.min_features_for_backend, 0, 100000);
@@ -76,7 +74,6 @@ VisualFrontendConfig loadVisualFrontendConfig(const ConfigReader& r) {
   r.readOptional("constant_velocity", &o.constant_velocity);
   r.readInRange("structure_points_per_frame", &o.structure_points_per_frame, 0, 100000);
   r.readInRange("landmark_max_failures", &o.landmark_max_failures, 1, 100000);
-  r.readInRange("max_affine_distortion", &o.max_affine_distortion, 0.0, 1.0);
   loadDetector(r.optionalSection("detector"), &o.detector);
   loadAlignment(r.optionalSection("alignment"), &o.alignment);
   loadPose(r.optionalSection("pose"), &o.pose);

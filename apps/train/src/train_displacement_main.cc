@@ -3,7 +3,7 @@
 // the release architecture; task displacement, output_sigma = per-axis RMSE on the held-out
 // blocks or flights). With data.validation flights the epoch is chosen on them (as the IMO
 // release does on `val`). With data.cross_validation_folds, --fold k trains fold k (early
-// stopping on its block, history.csv and epoch checkpoints for scripts/imo_cv_select.py) and
+// stopping on its held-out flights, history.csv and epoch checkpoints for scripts/imo_cv_select.py) and
 // --epochs N --output_sigma x,y,z the final network on the whole flights. --benchmark_batches
 // measures training throughput.
 // docs/imo_network.md.
@@ -23,7 +23,6 @@
 #include "hdvio/core/error.h"
 #include "hdvio/core/tool_flags.h"
 #include "hdvio/core/tool_main.h"
-#include "hdvio/learned/flight_folds.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/torch/displacement_trainer.h"
 #include "hdvio/learned/torch/reproducible_kernels.h"
@@ -70,7 +69,6 @@ learned::DisplacementTrainOptions readTraining(const ConfigReader& t) {
   t.readChoice("orientation_perturbation", &perturbation, {"gaussian", "uniform_angle"});
   o.orientation_perturbation = perturbation == "uniform_angle" ? learned::OrientationPerturbation::kUniformAngle
                                                                : learned::OrientationPerturbation::kGaussian;
-  t.readInRange("cosine_schedule_epochs", &o.cosine_schedule_epochs, 0, 100000);
   t.readInRange("orientation_sigma_deg", &o.orientation_sigma_deg, 0.0, 45.0);
   t.readInRange("gyro_bias_range", &o.gyro_bias_range, 0.0, 1.0);
   t.readInRange("accel_bias_range", &o.accel_bias_range, 0.0, 10.0);
@@ -88,14 +86,12 @@ int run() {
   data.read("train", &train_paths);
   // Validation flights (the release's `val`): the epoch is chosen on them, all of train trains.
   data.readOptional("validation", &validation_paths);
-  double block_seconds = 5.0, thrust_coefficient = 0.0, mass = 0.0, gap_seconds = 1.0;
+  double block_seconds = 5.0, thrust_coefficient = 0.0, mass = 0.0;
   int validation_every = 6, folds = 0;
   data.readInRange("validation_block_seconds", &block_seconds, 0.5, 1000.0);
   data.readInRange("validation_every", &validation_every, 2, 1000);
-  data.readInRange("cross_validation_folds", &folds, 0, 100);  // 0: interleaved blocks as above
-  data.readInRange("cross_validation_gap_seconds", &gap_seconds, 0.0, 100.0);
-  std::string cv_by = "blocks";  // blocks: fold k = the k-th block of each flight; flights: the
-  data.readChoice("cross_validation_by", &cv_by, {"blocks", "flights"});  // flights i % folds == k
+  // Fold k tests on the training flights at list positions i % folds == k; 0: interleaved blocks.
+  data.readInRange("cross_validation_folds", &folds, 0, 100);
   data.readInRange("thrust_coefficient", &thrust_coefficient, 0.0, 1.0);
   data.readInRange("mass", &mass, 0.0, 1000.0);
   data.finish();
@@ -147,25 +143,18 @@ int run() {
   source.thrust_coefficient = thrust_coefficient;
   source.mass = mass;
   source.rate_hz = arch.sample_rate_hz;
-  // Held out: the data.validation flights, fold k's contiguous block of each flight, or every
-  // validation_every-th block; with --epochs nothing.
+  // Held out: the data.validation flights, fold k's flights, or every validation_every-th block;
+  // with --epochs nothing.
   std::vector<learned::FlightSamples> train_flights, validation_flights;
   for (std::size_t i = 0; i < train_paths.size(); ++i) {
     const std::string& p = train_paths[i];
     const learned::FlightSamples f = train::loadFlight(p, source);
     if (FLAGS_epochs > 0 || !validation_paths.empty()) {
       train_flights.push_back(f);
-    } else if (FLAGS_fold >= 0 && cv_by == "flights") {
+    } else if (FLAGS_fold >= 0) {
       const bool test = static_cast<int>(i % static_cast<std::size_t>(folds)) == FLAGS_fold;
       (test ? validation_flights : train_flights).push_back(f);
       if (test) std::cout << p << ": fold " << FLAGS_fold << " of " << folds << " tests on this flight\n";
-    } else if (FLAGS_fold >= 0) {
-      const learned::BlockFold fold = learned::contiguousBlockFold(
-          f.size(), folds, FLAGS_fold, static_cast<std::size_t>(gap_seconds * arch.sample_rate_hz));
-      for (const auto& r : fold.train) train_flights.push_back(f.slice(r.begin, r.end));
-      validation_flights.push_back(f.slice(fold.test.begin, fold.test.end));
-      std::cout << p << ": fold " << FLAGS_fold << " of " << folds << " tests on samples [" << fold.test.begin
-                << ", " << fold.test.end << ")\n";
     } else {
       train::splitIntoBlocks(f, static_cast<std::size_t>(block_seconds * arch.sample_rate_hz),
                              static_cast<std::size_t>(validation_every), &train_flights,

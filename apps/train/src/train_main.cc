@@ -96,8 +96,6 @@ learned::TrainOptions readTraining(const ConfigReader& t) {
   t.readInRange("segment_seconds", &o.segment_seconds, 0.01, 10.0);
   t.readInRange("gyro_bias_sigma", &o.gyro_bias_sigma, 0.0, 1.0);
   t.readInRange("variance_weight", &o.variance_weight, 0.0, 100.0);
-  t.readInRange("weight_decay", &o.weight_decay, 0.0, 1.0);
-  t.readInRange("thrust_scale_sigma", &o.thrust_scale_sigma, 0.0, 0.5);
   t.finish();
   return o;
 }

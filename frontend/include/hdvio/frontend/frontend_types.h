@@ -108,9 +108,6 @@ struct FrontendOptions {
   bool constant_velocity = true;     // predict the translation from the last two frames
   int structure_points_per_frame = 20;
   int landmark_max_failures = 15;
-  // > 0: feature alignment also frees the patch's affine distortion up to this norm
-  // (reprojector.h); 0: translation only, as SVO.
-  double max_affine_distortion = 0.0;
   DetectorOptions detector;
   SparseAlignmentOptions alignment;
   PoseOptimizerOptions pose;

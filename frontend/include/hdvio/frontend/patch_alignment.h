@@ -50,14 +50,6 @@ int refineToFinerLevels(const Pyramid& cur, const Eigen::Matrix2d& A_cur_ref,
                         const Pyramid& ref_pyramid, const Vec2& px_ref, int level_ref, int level,
                         Vec2* p);
 
-// Refines *px like align2D, and with it the affine distortion the predicted warp missed (a
-// surface that is not fronto-parallel, seen from a new angle): inverse-compositional
-// Lucas-Kanade over a 2x2 linear map, a translation and an intensity offset, started at the
-// identity map. False (px unchanged) if it did not converge or the map drifted beyond
-// max_distortion (Frobenius norm of map - identity).
-bool align2DAffine(const cv::Mat& img, const BorderedPatch& ref_patch, int max_iterations,
-                   double max_distortion, Vec2* px);
-
 // Zero-mean sum of squared differences between the patch interior and img around integer (x,y).
 double zmssd(const cv::Mat& img, const BorderedPatch& ref_patch, int x, int y);
 

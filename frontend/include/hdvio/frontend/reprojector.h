@@ -22,10 +22,7 @@ constexpr int kUnconvergedLevel = 2;
 // Appends one Feature (with landmark_id) per matched landmark to frame->features: aligned on the
 // level that matches the patch's scale (at least kUnconvergedLevel for an unconverged landmark),
 // then refined down to level 0 (refineToFinerLevels); Feature::level is the finest level reached.
-// max_affine_distortion > 0: each match is refined once more with the patch's affine
-// distortion free (align2DAffine, bounded by that norm); 0: translation only (SVO).
 ReprojectionStats reprojectMap(const CameraModel& camera, const FeatureGrid& grid, int max_features,
-                               int landmark_max_failures, double max_affine_distortion, Map* map,
-                               Frame* frame);
+                               int landmark_max_failures, Map* map, Frame* frame);
 
 }  // namespace hdvio::frontend

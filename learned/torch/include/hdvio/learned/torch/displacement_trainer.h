@@ -31,10 +31,6 @@ struct DisplacementTrainOptions {
   int stride_samples = 5;              // spacing of window ends (0.05 s at 100 Hz)
   int batch_size = 128;
   double learning_rate = 5e-4;         // Adam
-  // > 0: cosine decay of the learning rate from learning_rate (epoch 1) to 0 at this epoch,
-  // the same epoch by epoch whatever the run's length, so a cross-validation fold's epoch-e
-  // checkpoint and a final training of e epochs see the same steps. 0: constant.
-  int cosine_schedule_epochs = 0;
   int max_epochs = 200;
   int patience = 20;                   // epochs without validation improvement before stopping
   DisplacementLoss loss = DisplacementLoss::kMse;
@@ -101,9 +97,6 @@ class DisplacementTrainer {
                                   double* cpu_seconds = nullptr);
 
   TcnModule& module() { return module_; }
-
-  // Adam's step size in epoch (>= 1), from learning_rate and cosine_schedule_epochs.
-  double learningRate(int epoch) const;
 
  private:
   // Per-axis mean squared error (m^2) of one pass; trains (with augmentation) when optimizer

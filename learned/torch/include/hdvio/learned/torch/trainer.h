@@ -23,8 +23,6 @@ struct TrainOptions {
   int max_epochs = 30;
   int patience = 5;               // epochs without validation improvement before stopping
   double gyro_bias_sigma = 1e-3;  // rad/s, augmentation: constant gyro offset per segment
-  double thrust_scale_sigma = 0.0;  // augmentation: thrust input x (1 + N(0, sigma)) per segment
-  double weight_decay = 0.0;      // Adam's (L2) weight decay
   int seed = 7;
   int threads = 1;
   double max_minutes = 10.0;      // wall-clock budget; stops after the epoch that exceeds it
