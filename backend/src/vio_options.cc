@@ -60,9 +60,8 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   c.readInRange("keyframe_parallax_px", &o.keyframe_parallax_px, 0.0, 1000.0);
   c.readInRange("keyframe_min_tracked_ratio", &o.keyframe_min_tracked_ratio, 0.0, 1.0);
   c.readInRange("pixel_sigma", &o.pixel_sigma, 1e-3, 100.0);
-  std::string loss = "huber";
-  c.readChoice("robust_loss", &loss, {"none", "huber"});
-  o.robust_loss = loss == "none" ? RobustLoss::kNone : RobustLoss::kHuber;
+  c.readEnum("robust_loss", &o.robust_loss,
+             {{"none", RobustLoss::kNone}, {"huber", RobustLoss::kHuber}});
   c.readInRange("robust_width_px", &o.robust_width_px, 1e-3, 100.0);
   c.readInRange("outlier_threshold_px", &o.outlier_threshold_px, 0.1, 1000.0);
   c.readInRange("min_triangulation_angle_deg", &o.min_triangulation_angle_deg, 0.0, 45.0);

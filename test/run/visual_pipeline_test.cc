@@ -438,7 +438,7 @@ TEST(VisualInertialStartSweep, DISABLED_RenderedFlights) {
   lemniscate.name = "lemniscate_images";
   lemniscate.seed = 3;
   lemniscate.duration = 10.0;
-  lemniscate.trajectory.type = "lemniscate";
+  lemniscate.trajectory.type = sim::TrajectoryType::kLemniscate;
   lemniscate.trajectory.max_speed = 3.0;
   lemniscate.trajectory.ramp_time = 1.0;
   lemniscate.trajectory.height_amplitude = 0.3;

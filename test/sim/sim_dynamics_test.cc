@@ -144,7 +144,7 @@ TEST(SimDynamics, ThrustPlusDragPlusExternalEqualsSpecificForce) {
 
 TEST(SimDynamics, ThrustChannelMiscalibrationLagAndRotorSpeeds) {
   SimConfig c = aggressiveInertialConfig(4.0);
-  c.vehicle.thrust_output = "commanded";
+  c.vehicle.thrust_output = VehicleConfig::ThrustOutput::kCommanded;
   c.vehicle.thrust_scale = 1.1;
   c.vehicle.thrust_bias = -0.3;
   c.vehicle.thrust_lag = 0.05;

@@ -143,7 +143,7 @@ TEST(SimIo, ShippedScenariosAreValid) {
     const ConfigReader reader = ConfigReader::fromFile(entry.path().string());
     const SimConfig c = loadSimConfig(reader);
     const VehicleModel model(c);  // checks the whole flight is flyable and inside the room
-    if (c.trajectory.type != "hover") {
+    if (c.trajectory.type != sim::TrajectoryType::kHover) {
       EXPECT_NEAR(model.trajectory().peakSpeed(), c.trajectory.max_speed, 0.01);
     }
     ++count;

@@ -124,7 +124,7 @@ TEST(SimRender, GatesOccludeTheRoomAndLandmarks) {
 
 TEST(SimRender, ConsecutiveFramesArePhotometricallyConsistent) {
   SimConfig c = testing::smallVisualConfig();
-  c.camera.distortion = "radial-tangential";
+  c.camera.distortion = DistortionModel::kRadialTangential;
   c.camera.distortion_coefficients = {-0.1, 0.02, 0.0005, 0.0003};
   const Simulator sim(c);
   const Renderer renderer(*sim.scene(), *sim.camera());

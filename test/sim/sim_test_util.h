@@ -16,12 +16,12 @@ inline SimConfig aggressiveInertialConfig(double duration = 10.0) {
   SimConfig c;
   c.seed = 3;
   c.duration = duration;
-  c.trajectory.type = "random";
+  c.trajectory.type = TrajectoryType::kRandom;
   c.trajectory.center = Vec3(0.0, 0.0, 3.0);
   c.trajectory.extent = Vec3(6.0, 4.0, 1.5);
   c.trajectory.max_speed = 6.0;
   c.trajectory.ramp_time = 1.0;
-  c.yaw.mode = "rate";
+  c.yaw.mode = YawMode::kRate;
   c.yaw.rate = 0.5;
   c.scene.room_min = Vec3(-10.0, -8.0, 0.0);
   c.scene.room_max = Vec3(10.0, 8.0, 6.0);
@@ -36,14 +36,14 @@ inline SimConfig aggressiveInertialConfig(double duration = 10.0) {
   jet.length = 8.0;
   c.wind.jets.push_back(jet);
   ForceEventConfig pull;
-  pull.type = "pull";
+  pull.type = ForceEventConfig::Type::kPull;
   pull.start = 2.0;
   pull.end = 4.0;
   pull.ramp = 0.4;
   pull.force = Vec3(2.0, 0.0, -1.0);
   c.forces.push_back(pull);
   ForceEventConfig payload;
-  payload.type = "payload";
+  payload.type = ForceEventConfig::Type::kPayload;
   payload.start = 5.0;
   payload.end = 8.0;
   payload.ramp = 0.5;
@@ -58,7 +58,7 @@ inline SimConfig aggressiveInertialConfig(double duration = 10.0) {
 inline SimConfig raceConfig(double duration = 12.0) {
   SimConfig c;
   c.duration = duration;
-  c.trajectory.type = "race";
+  c.trajectory.type = TrajectoryType::kRace;
   c.trajectory.max_speed = 15.0;
   c.trajectory.ramp_time = 3.0;
   for (const Vec3& g : {Vec3(15, 0, 2.5), Vec3(8, 9, 3.5), Vec3(-8, 9, 2.5), Vec3(-15, 0, 3.5),
@@ -67,7 +67,7 @@ inline SimConfig raceConfig(double duration = 12.0) {
     gate.position = g;
     c.trajectory.gates.push_back(gate);
   }
-  c.yaw.mode = "forward";
+  c.yaw.mode = YawMode::kForward;
   c.scene.room_min = Vec3(-22, -15, 0);
   c.scene.room_max = Vec3(22, 15, 8);
   c.wind.steady = Vec3(0.0, 3.0, 0.0);
@@ -81,7 +81,7 @@ inline SimConfig smallVisualConfig() {
   SimConfig c;
   c.seed = 5;
   c.duration = 1.0;
-  c.trajectory.type = "circle";
+  c.trajectory.type = TrajectoryType::kCircle;
   c.trajectory.radius = 1.0;
   c.trajectory.max_speed = 1.0;
   c.trajectory.ramp_time = 0.0;

@@ -61,10 +61,10 @@ SVec3 ExternalForces::force(const Series& t, const SVec3& acceleration) const {
   const SVec3 g(0.0, 0.0, -kGravity);
   for (const ForceEventConfig& e : events_) {
     const Series window = smoothWindow(t, e.start, e.end, e.ramp);
-    if (e.type == "pull") {
+    if (e.type == ForceEventConfig::Type::kPull) {
       f = f + SVec3(e.force.x(), e.force.y(), e.force.z()) * window;
     }
-    if (e.type == "payload") {
+    if (e.type == ForceEventConfig::Type::kPayload) {
       f = f - (acceleration - g) * (window * (e.mass / vehicle_mass_));
     }
   }

@@ -5,6 +5,17 @@
 #include "hdvio/core/error.h"
 
 namespace hdvio::sim {
+std::string toString(TrajectoryType type) {
+  switch (type) {
+    case TrajectoryType::kHover: return "hover";
+    case TrajectoryType::kCircle: return "circle";
+    case TrajectoryType::kLemniscate: return "lemniscate";
+    case TrajectoryType::kRandom: return "random";
+    case TrajectoryType::kRace: return "race";
+  }
+  return "circle";
+}
+
 namespace {
 
 [[noreturn]] void fail(const ConfigReader& r, const std::string& key, const std::string& problem) {
@@ -30,23 +41,27 @@ void readPositive(const ConfigReader& r, const std::string& key, double* v, doub
 
 TrajectoryConfig readTrajectory(const ConfigReader& r) {
   TrajectoryConfig c;
-  r.readChoice("type", &c.type, {"hover", "circle", "lemniscate", "random", "race"}, true);
+  r.readEnum("type", &c.type,
+             {{"hover", TrajectoryType::kHover}, {"circle", TrajectoryType::kCircle},
+              {"lemniscate", TrajectoryType::kLemniscate}, {"random", TrajectoryType::kRandom},
+              {"race", TrajectoryType::kRace}},
+             true);
   readVec3(r, "center", &c.center);
   r.readInRange("max_speed", &c.max_speed, 0.0, 40.0);
   r.readInRange("ramp_time", &c.ramp_time, 0.0, 1000.0);
-  if (c.type == "circle") {
+  if (c.type == TrajectoryType::kCircle) {
     readPositive(r, "radius", &c.radius, 1000.0);
   }
-  if (c.type == "circle" || c.type == "lemniscate") {
+  if (c.type == TrajectoryType::kCircle || c.type == TrajectoryType::kLemniscate) {
     r.readInRange("height_amplitude", &c.height_amplitude, 0.0, 100.0);
   }
-  if (c.type == "lemniscate" || c.type == "random") {
+  if (c.type == TrajectoryType::kLemniscate || c.type == TrajectoryType::kRandom) {
     readVec3(r, "extent", &c.extent);
     for (int i = 0; i < 3; ++i)
       if (c.extent[i] < 0.0) fail(r, "extent", "half sizes must be >= 0");
   }
-  if (c.type == "random") r.readInRange("random_features", &c.random_features, 4, 512);
-  if (c.type == "race") {
+  if (c.type == TrajectoryType::kRandom) r.readInRange("random_features", &c.random_features, 4, 512);
+  if (c.type == TrajectoryType::kRace) {
     for (const ConfigReader& g : r.list("gates")) {
       GateConfig gate;
       readVec3(g, "position", &gate.position, true);
@@ -55,23 +70,26 @@ TrajectoryConfig readTrajectory(const ConfigReader& r) {
     }
     if (c.gates.size() < 3) fail(r, "gates", "a race track needs at least 3 gates");
   }
-  if (c.type != "hover" && !(c.max_speed > 0.0)) fail(r, "max_speed", "must be > 0 for a moving trajectory");
+  if (c.type != TrajectoryType::kHover && !(c.max_speed > 0.0)) fail(r, "max_speed", "must be > 0 for a moving trajectory");
   r.finish();
   return c;
 }
 
 YawConfig readYaw(const ConfigReader& r) {
   YawConfig c;
-  r.readChoice("mode", &c.mode, {"fixed", "rate", "oscillate", "forward"}, true);
+  r.readEnum("mode", &c.mode,
+             {{"fixed", YawMode::kFixed}, {"rate", YawMode::kRate},
+              {"oscillate", YawMode::kOscillate}, {"forward", YawMode::kForward}},
+             true);
   double deg = 0.0;
   r.readInRange("value_deg", &deg, -360.0, 360.0);
   c.value = deg * M_PI / 180.0;
-  if (c.mode == "rate") {
+  if (c.mode == YawMode::kRate) {
     double rate_deg = 0.0;
     r.readInRange("rate_deg", &rate_deg, -2000.0, 2000.0, true);
     c.rate = rate_deg * M_PI / 180.0;
   }
-  if (c.mode == "oscillate") {
+  if (c.mode == YawMode::kOscillate) {
     double amp_deg = 0.0;
     r.readInRange("amplitude_deg", &amp_deg, 0.0, 180.0, true);
     c.amplitude = amp_deg * M_PI / 180.0;
@@ -94,7 +112,9 @@ VehicleConfig readVehicle(const ConfigReader& r) {
     if (c.rotor_drag[i] < 0.0) fail(r, "rotor_drag", "must be >= 0");
   }
   r.readInRange("fuselage_drag", &c.fuselage_drag, 0.0, 10.0);
-  r.readChoice("thrust_output", &c.thrust_output, {"measured", "commanded"});
+  r.readEnum("thrust_output", &c.thrust_output,
+             {{"measured", VehicleConfig::ThrustOutput::kMeasured},
+              {"commanded", VehicleConfig::ThrustOutput::kCommanded}});
   r.readInRange("thrust_scale", &c.thrust_scale, 0.1, 10.0);
   r.readInRange("thrust_bias", &c.thrust_bias, -20.0, 20.0);
   r.readInRange("thrust_lag", &c.thrust_lag, 0.0, 1.0);
@@ -129,12 +149,15 @@ WindConfig readWind(const ConfigReader& r) {
 
 ForceEventConfig readForce(const ConfigReader& r) {
   ForceEventConfig c;
-  r.readChoice("type", &c.type, {"pull", "payload"}, true);
+  r.readEnum("type", &c.type,
+             {{"pull", ForceEventConfig::Type::kPull},
+              {"payload", ForceEventConfig::Type::kPayload}},
+             true);
   r.readInRange("start", &c.start, 0.0, 1e6, true);
   r.readInRange("end", &c.end, 0.0, 1e9);
   readPositive(r, "ramp", &c.ramp, 100.0);
   if (c.end <= c.start) fail(r, "end", "must be after start");
-  if (c.type == "pull") {
+  if (c.type == ForceEventConfig::Type::kPull) {
     readVec3(r, "force", &c.force, true);
     if (c.force.norm() > 30.0) fail(r, "force", "above 30 m/s^2 is not supported");
   } else {
@@ -174,8 +197,10 @@ CameraSimConfig readCamera(const ConfigReader& r) {
   if (intr.size() != 4 || intr[0] <= 0.0 || intr[1] <= 0.0)
     fail(r, "intrinsics", "expected [fu, fv, cu, cv] with fu, fv > 0");
   c.fu = intr[0]; c.fv = intr[1]; c.cu = intr[2]; c.cv = intr[3];
-  r.readChoice("distortion_model", &c.distortion, {"none", "radial-tangential"});
-  if (c.distortion == "radial-tangential") {
+  r.readEnum("distortion_model", &c.distortion,
+             {{"none", DistortionModel::kNone},
+              {"radial-tangential", DistortionModel::kRadialTangential}});
+  if (c.distortion == DistortionModel::kRadialTangential) {
     r.read("distortion_coefficients", &c.distortion_coefficients);
     if (c.distortion_coefficients.size() != 4)
       fail(r, "distortion_coefficients", "radial-tangential needs [k1, k2, p1, p2]");
@@ -261,7 +286,7 @@ SimConfig loadSimConfig(const ConfigReader& r) {
   if (r.has("camera")) c.camera = readCamera(r.section("camera"));
   if (r.has("scene")) c.scene = readScene(r.section("scene"));
   if (r.has("gate_detection")) c.gate_detection = readGateDetection(r.section("gate_detection"));
-  if (c.yaw.mode == "forward" && c.trajectory.type == "hover")
+  if (c.yaw.mode == YawMode::kForward && c.trajectory.type == TrajectoryType::kHover)
     fail(r, "yaw.mode", "'forward' needs a moving trajectory");
   r.finish();
   return c;

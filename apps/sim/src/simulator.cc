@@ -22,7 +22,7 @@ CameraCalibration cameraCalibrationOf(const CameraSimConfig& c) {
   cal.fv = c.fv;
   cal.cu = c.cu;
   cal.cv = c.cv;
-  cal.distortion = c.distortion == "radial-tangential" ? DistortionModel::kRadialTangential : DistortionModel::kNone;
+  cal.distortion = c.distortion;
   cal.distortion_coefficients = c.distortion_coefficients;
   return cal;
 }
@@ -31,7 +31,7 @@ Simulator::Simulator(const SimConfig& config) : config_(config), model_(config) 
   if (config_.camera.enabled) {
     camera_ = std::make_unique<CameraModel>(CameraModel::fromCalibration(cameraCalibrationOf(config_.camera)));
     const std::vector<GateConfig> gates =
-        config_.trajectory.type == "race" ? model_.trajectory().orientedGates() : std::vector<GateConfig>{};
+        config_.trajectory.type == TrajectoryType::kRace ? model_.trajectory().orientedGates() : std::vector<GateConfig>{};
     scene_ = std::make_unique<Scene>(config_.scene, gates, config_.seed);
     renderer_ = std::make_unique<Renderer>(*scene_, *camera_);
     // The camera sits off the body origin: it must stay inside the room too.
@@ -121,7 +121,7 @@ SimulationResult Simulator::simulate() const {
     // Thrust channel: a commanded thrust leads the true one through the first-order lag
     // T + lag dT/dt = command; miscalibration maps true to written as scale * x + bias.
     double channel = s.thrust;
-    if (veh.thrust_output == "commanded") channel += veh.thrust_lag * s.thrust_rate;
+    if (veh.thrust_output == VehicleConfig::ThrustOutput::kCommanded) channel += veh.thrust_lag * s.thrust_rate;
     channel = veh.thrust_scale * channel + veh.thrust_bias;
     if (veh.thrust_noise > 0.0) channel += veh.thrust_noise * normal(thrust_rng);
     seq.thrust.push_back(ThrustSample{ts, Vec3(0.0, 0.0, channel)});

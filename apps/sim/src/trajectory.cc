@@ -25,19 +25,19 @@ std::string describe(const Vec3& v) {
 Trajectory::Trajectory(const TrajectoryConfig& traj, const YawConfig& yaw, const SceneConfig& scene,
                        double duration, std::uint64_t seed)
     : traj_(traj), yaw_(yaw), duration_(duration) {
-  if (traj_.type == "random") setupRandom(seed);
-  if (traj_.type == "race") setupRace();
+  if (traj_.type == TrajectoryType::kRandom) setupRandom(seed);
+  if (traj_.type == TrajectoryType::kRace) setupRace();
 
-  if (traj_.type == "hover") {
+  if (traj_.type == TrajectoryType::kHover) {
     omega_ = 0.0;
   } else {
-    omega_ = traj_.type == "circle" ? traj_.max_speed / traj_.radius : 1.0;
+    omega_ = traj_.type == TrajectoryType::kCircle ? traj_.max_speed / traj_.radius : 1.0;
     // Peak speed is linear in omega for a fixed range of s; the range grows with omega, so
     // iterate until the measured peak matches.
     for (int iter = 0; iter < 12; ++iter) {
       const double peak = measurePeakSpeed();
       if (!(peak > 1e-9)) {
-        throw InputError("", 0, "trajectory: the '" + traj_.type + "' shape does not move");
+        throw InputError("", 0, "trajectory: the '" + toString(traj_.type) + "' shape does not move");
       }
       const double ratio = traj_.max_speed / peak;
       omega_ *= ratio;
@@ -107,20 +107,20 @@ Series Trajectory::ramp(const Series& t) const {
 
 SVec3 Trajectory::shape(const Series& s) const {
   const Vec3& c = traj_.center;
-  if (traj_.type == "hover") return constant(c);
-  if (traj_.type == "circle") {
+  if (traj_.type == TrajectoryType::kHover) return constant(c);
+  if (traj_.type == TrajectoryType::kCircle) {
     Series sn, cs;
     sincos(s, &sn, &cs);
     return {c.x() + traj_.radius * cs, c.y() + traj_.radius * sn,
             c.z() + traj_.height_amplitude * sin(2.0 * s)};
   }
-  if (traj_.type == "lemniscate") {
+  if (traj_.type == TrajectoryType::kLemniscate) {
     Series sn, cs;
     sincos(s, &sn, &cs);
     return {c.x() + traj_.extent.x() * sn, c.y() + traj_.extent.y() * sin(2.0 * s),
             c.z() + traj_.height_amplitude * cs};
   }
-  if (traj_.type == "random") {
+  if (traj_.type == TrajectoryType::kRandom) {
     SVec3 p;
     const double norm = std::sqrt(2.0 / traj_.random_features);
     for (int axis = 0; axis < 3; ++axis) {
@@ -142,9 +142,9 @@ SVec3 Trajectory::shape(const Series& s) const {
 SVec3 Trajectory::position(const Series& t) const { return shape(omega_ * ramp(t)); }
 
 Series Trajectory::yaw(const Series& t, const SVec3& p) const {
-  if (yaw_.mode == "fixed") return Series(yaw_.value);
-  if (yaw_.mode == "rate") return yaw_.value + yaw_.rate * ramp(t);
-  if (yaw_.mode == "oscillate") return yaw_.value + yaw_.amplitude * sin(2.0 * M_PI * yaw_.frequency * t);
+  if (yaw_.mode == YawMode::kFixed) return Series(yaw_.value);
+  if (yaw_.mode == YawMode::kRate) return yaw_.value + yaw_.rate * ramp(t);
+  if (yaw_.mode == YawMode::kOscillate) return yaw_.value + yaw_.amplitude * sin(2.0 * M_PI * yaw_.frequency * t);
   // forward: heading along the horizontal velocity (plus the configured offset)
   const SVec3 v = derivative(p);
   return yaw_.value + atan2(v.y, v.x);

@@ -35,14 +35,15 @@ class ConfigReader {
   // effective configuration show); *value is the default and must be one of the choices.
   template <class E>
   void readEnum(const std::string& key, E* value,
-                const std::vector<std::pair<std::string, E>>& choices) const {
+                const std::vector<std::pair<std::string, E>>& choices,
+                bool required = false) const {
     std::string name;
     std::vector<std::string> names;
     for (const auto& [n, e] : choices) {
       names.push_back(n);
       if (e == *value) name = n;
     }
-    readChoice(key, &name, names);
+    readChoice(key, &name, names, required);
     for (const auto& [n, e] : choices)
       if (n == name) *value = e;
   }

@@ -8,6 +8,7 @@
 
 #include "hdvio/core/config.h"
 #include "hdvio/core/lie.h"
+#include "hdvio/core/sequence.h"
 
 namespace hdvio::sim {
 
@@ -16,8 +17,11 @@ struct GateConfig {
   double yaw = 0.0;  // rad, gate normal; set from the flight direction through the gate
 };
 
+enum class TrajectoryType { kHover, kCircle, kLemniscate, kRandom, kRace };
+std::string toString(TrajectoryType type);  // the YAML name
+
 struct TrajectoryConfig {
-  std::string type = "circle";  // hover | circle | lemniscate | random | race
+  TrajectoryType type = TrajectoryType::kCircle;
   Vec3 center = Vec3(0.0, 0.0, 1.5);
   double max_speed = 2.0;       // m/s, peak speed reached after the ramp (ignored by hover)
   double ramp_time = 2.0;       // s, smooth start from (almost) rest
@@ -28,8 +32,10 @@ struct TrajectoryConfig {
   std::vector<GateConfig> gates;  // race: closed loop through the gate centres, in order
 };
 
+enum class YawMode { kFixed, kRate, kOscillate, kForward };
+
 struct YawConfig {
-  std::string mode = "fixed";  // fixed | rate | oscillate | forward
+  YawMode mode = YawMode::kFixed;
   double value = 0.0;          // rad, initial / constant yaw
   double rate = 0.0;           // rad/s (rate)
   double amplitude = 0.0;      // rad (oscillate)
@@ -44,7 +50,9 @@ struct VehicleConfig {
   Vec3 inertia = Vec3(0.0025, 0.0021, 0.0043);  // kg m^2, diagonal
   Vec3 rotor_drag = Vec3(0.3, 0.3, 0.05);       // 1/s, linear in body airspeed
   double fuselage_drag = 0.01;                  // 1/m, quadratic in airspeed
-  std::string thrust_output = "measured";       // measured | commanded
+  // What the thrust channel writes: the rotors' thrust (measured) or the controller's command,
+  // which leads it by the lag (commanded).
+  enum class ThrustOutput { kMeasured, kCommanded } thrust_output = ThrustOutput::kMeasured;
   double thrust_scale = 1.0;   // written thrust = scale * true (+ lag) + bias
   double thrust_bias = 0.0;    // m/s^2
   double thrust_lag = 0.0;     // s, first-order actuation lag (commanded output leads)
@@ -67,7 +75,7 @@ struct WindConfig {
 };
 
 struct ForceEventConfig {
-  std::string type = "pull";  // pull | payload
+  enum class Type { kPull, kPayload } type = Type::kPull;
   double start = 0.0;         // s
   double end = 1e9;           // s (payload: release)
   double ramp = 0.3;          // s, rise/fall time
@@ -91,7 +99,7 @@ struct CameraSimConfig {
   int width = 752, height = 480;
   double rate_hz = 20.0;
   double fu = 458.0, fv = 458.0, cu = 376.0, cv = 240.0;
-  std::string distortion = "none";              // none | radial-tangential
+  DistortionModel distortion = DistortionModel::kNone;
   std::vector<double> distortion_coefficients;  // k1 k2 p1 p2
   Pose T_BS = defaultCameraMount();             // camera -> body
   double noise_std = 0.0;            // gray levels
