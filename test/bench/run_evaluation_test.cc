@@ -13,6 +13,12 @@
 
 namespace hdvio::run {
 namespace {
+
+RunEvaluationOptions noPlots() {
+  RunEvaluationOptions o;
+  o.plots = false;
+  return o;
+}
 namespace fs = std::filesystem;
 
 // A 2 s flight along x at 1 m/s with a slow yaw, ground truth at 100 Hz.
@@ -61,7 +67,7 @@ TEST_F(RunEvaluation, ExactEstimateHasZeroErrorAndIsWritten) {
   const Sequence seq = straightFlight();
   writeEstimate(seq, 0.0, 0.0);
   // Not an ASL folder: the ground truth comes from the sequence itself.
-  ASSERT_TRUE(evaluateRun(seq, (dir_ / "no_such_dataset").string(), (dir_ / "result").string(), {false}));
+  ASSERT_TRUE(evaluateRun(seq, (dir_ / "no_such_dataset").string(), (dir_ / "result").string(), noPlots()));
   const fs::path json = dir_ / "result" / "evaluation" / "metrics.json";
   ASSERT_TRUE(fs::exists(json));
   std::ifstream in(json);
@@ -97,7 +103,7 @@ TEST_F(RunEvaluation, RunOnPartOfAFlightGetsLengthsOfThatPart) {
     const std::size_t at = text.find("\"distance_m\": ");
     return at == std::string::npos ? -1.0 : std::strtod(text.c_str() + at + 14, nullptr);
   };
-  ASSERT_TRUE(evaluateRun(seq, "", (dir_ / "result").string(), {false}));
+  ASSERT_TRUE(evaluateRun(seq, "", (dir_ / "result").string(), noPlots()));
   EXPECT_NEAR(firstDistance(), 0.2, 1e-9);  // the whole flight's
   RunEvaluationOptions options;
   options.plots = false;
@@ -110,12 +116,12 @@ TEST_F(RunEvaluation, ProblemsAreReportedNotThrown) {
   Sequence no_gt = straightFlight();
   writeEstimate(no_gt, 0.0, 0.0);
   no_gt.groundtruth.clear();
-  EXPECT_FALSE(evaluateRun(no_gt, "", (dir_ / "result").string(), {false}));
+  EXPECT_FALSE(evaluateRun(no_gt, "", (dir_ / "result").string(), noPlots()));
   EXPECT_FALSE(fs::exists(dir_ / "result" / "evaluation"));
   // Stamps 100 s off: nothing associates, an InputError inside; false, no metrics.json.
   const Sequence seq = straightFlight();
   writeEstimate(seq, 0.0, 100.0);
-  EXPECT_FALSE(evaluateRun(seq, "", (dir_ / "result").string(), {false}));
+  EXPECT_FALSE(evaluateRun(seq, "", (dir_ / "result").string(), noPlots()));
   EXPECT_FALSE(fs::exists(dir_ / "result" / "evaluation" / "metrics.json"));
 }
 
