@@ -22,6 +22,7 @@ constexpr int kFormatVersion2 = 2;  // residual networks, info, float32 encoding
 constexpr int kFormatVersion3 = 3;  // version 2 + the drag law the force network complements
 constexpr int kFormatVersion4 = 4;  // version 3 + sample_times, block_relu, window_padding
 constexpr int kFormatVersion5 = 5;  // version 4 + force_walk
+constexpr int kFormatVersion6 = 6;  // version 5 + supervision
 
 // Walks the meaningful lines of the file, splitting each into whitespace tokens.
 class LineCursor {
@@ -246,7 +247,8 @@ std::string word(LineCursor& c, const std::string& key, const std::vector<std::s
   c.fail("unknown " + key + " '" + c.tokens()[1] + "' (expected one of: " + list + ")");
 }
 
-TcnFileInfo readInfo(LineCursor& c, bool with_drag_law, bool with_sample_times, bool with_force_walk) {
+TcnFileInfo readInfo(LineCursor& c, bool with_drag_law, bool with_sample_times, bool with_force_walk,
+                     bool with_supervision) {
   TcnFileInfo info;
   info.task = word(c, "task", {"force", "displacement"});
   info.inputs = word(c, "inputs", {"thrust_gyro", "accel_gyro"});
@@ -291,6 +293,7 @@ TcnFileInfo readInfo(LineCursor& c, bool with_drag_law, bool with_sample_times, 
     info.force_walk = c.real(1);
     if (info.force_walk < 0.0) c.fail("force_walk must be non-negative");
   }
+  if (with_supervision) info.supervision = word(c, "supervision", {"groundtruth", "estimate"});
   return info;
 }
 
@@ -361,13 +364,15 @@ TcnFile parseTcnFile(const std::string& text, const std::string& name) {
   if (c.tokens()[0] != kFormatName) c.fail("not an hdvio TCN weight file (no \"hdvio_tcn\" header)");
   c.expectTokens(2, "hdvio_tcn <version>");
   const long version = c.integer(1, 0, 1000);
-  if (version < kFormatVersion || version > kFormatVersion5) {
+  if (version < kFormatVersion || version > kFormatVersion6) {
     c.fail("unsupported format version " + c.tokens()[1]);
   }
   const bool v2 = version >= kFormatVersion2;  // the version-2 layout (3 adds the drag law)
   TcnFileInfo info;
   const bool v4 = version >= kFormatVersion4;
-  if (v2) info = readInfo(c, version >= kFormatVersion3, v4, version >= kFormatVersion5);
+  if (v2)
+    info = readInfo(c, version >= kFormatVersion3, v4, version >= kFormatVersion5,
+                    version >= kFormatVersion6);
 
   TcnArchitecture a;
   a.input_channels = static_cast<int>(keyValue(c, "input_channels", 1, 4096));
@@ -444,11 +449,12 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
   const TcnArchitecture& a = tcn.architecture();
   std::ostringstream os;
   // The oldest version that can hold what is written (older readers keep working).
-  const bool v5 = info && info->force_walk > 0.0;
+  const bool v6 = info && info->supervision != "groundtruth";
+  const bool v5 = v6 || (info && info->force_walk > 0.0);
   const bool v4 = v5 || (info && (a.block_relu || a.window_padding || info->sample_times != "end"));
   const bool with_drag_law = info && (info->drag_law.enabled() || v4);
   os << kFormatName << ' '
-     << (v5 ? kFormatVersion5 : v4 ? kFormatVersion4 : with_drag_law ? kFormatVersion3 : info ? kFormatVersion2 : kFormatVersion)
+     << (v6 ? kFormatVersion6 : v5 ? kFormatVersion5 : v4 ? kFormatVersion4 : with_drag_law ? kFormatVersion3 : info ? kFormatVersion2 : kFormatVersion)
      << '\n';
   std::istringstream lines(comment);
   for (std::string line; std::getline(lines, line);) os << "# " << line << '\n';
@@ -484,6 +490,7 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
       std::snprintf(buf, sizeof(buf), "%.9g", info->force_walk);
       os << "force_walk " << buf << '\n';
     }
+    if (v6) os << "supervision " << info->supervision << '\n';
   }
   char rate[32];
   std::snprintf(rate, sizeof(rate), "%.17g", a.sample_rate_hz);

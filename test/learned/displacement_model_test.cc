@@ -215,6 +215,24 @@ TEST(ForceWeightFile, Version5CarriesTheModelErrorWalk) {
   expectFailure(replaced(text, "force_walk 0.21\n", ""), 7, "force_walk");
 }
 
+// Version 6: a network trained on an estimator's trajectory says so; ground truth stays 5.
+TEST(ForceWeightFile, Version6RecordsSupervisionByAnEstimate) {
+  const Tcn tcn = testing::deterministicTcn();
+  TcnFileInfo info;
+  info.drag_law.linear = Vec3(0.3, 0.3, 0.0);
+  info.supervision = "estimate";
+  const std::string text = formatTcnFile(tcn, info);
+  EXPECT_EQ(text.rfind("hdvio_tcn 6\n", 0), 0u);
+  EXPECT_NE(text.find("\nforce_walk 0\nsupervision estimate\n"), std::string::npos) << text.substr(0, 300);
+  EXPECT_EQ(parseTcnFile(text, "v6.tcn").info.supervision, "estimate");
+  info.supervision = "groundtruth";
+  info.force_walk = 0.21;
+  EXPECT_EQ(formatTcnFile(tcn, info).rfind("hdvio_tcn 5\n", 0), 0u);
+  EXPECT_EQ(parseTcnFile(formatTcnFile(tcn, info), "v5.tcn").info.supervision, "groundtruth");
+  expectFailure(replaced(text, "supervision estimate", "supervision slam"), 8, "unknown supervision 'slam'");
+  expectFailure(replaced(text, "supervision estimate\n", ""), 8, "supervision");
+}
+
 TEST(DisplacementModel, LoadChecksTaskAndSigma) {
   const std::string path = tempPath("model.tcn");
   saveTcnFile(testing::deterministicResidualTcn(), displacementInfo("accel_gyro"), path, "", TcnEncoding::kFloat32);

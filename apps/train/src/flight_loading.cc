@@ -6,6 +6,7 @@
 
 #include "hdvio/io/datasets.h"
 #include "hdvio/io/sequence_reader.h"
+#include "hdvio/train/estimate_supervision.h"
 
 namespace hdvio::train {
 
@@ -30,10 +31,13 @@ Sequence loadSequence(const std::string& path, const FlightSource& source) {
   return io::readSequence(resolvePath(source.data_root, path), options);
 }
 
-learned::FlightSamples loadFlight(const std::string& path, const FlightSource& source) {
+learned::FlightSamples loadFlight(const std::string& path, const FlightSource& source,
+                                  const std::string& estimate_dir) {
   learned::ResampleOptions options;
   options.rate_hz = source.rate_hz;
-  learned::FlightSamples f = learned::resampleFlight(loadSequence(path, source), options);
+  Sequence seq = loadSequence(path, source);
+  if (!estimate_dir.empty()) superviseWithEstimate(resolvePath(source.data_root, estimate_dir), &seq);
+  learned::FlightSamples f = learned::resampleFlight(seq, options);
   f.name = path;
   return f;
 }

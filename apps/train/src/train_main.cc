@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 
 #include <gflags/gflags.h>
 #include <yaml-cpp/yaml.h>
@@ -103,10 +104,16 @@ learned::TrainOptions readTraining(const ConfigReader& t) {
 // The config as this run used it: the fold's training flights and the thrust coefficient it
 // refitted, so the run can be repeated with plain hdvio_train --config.
 void writeEffectiveConfig(const std::string& path, const std::string& comment,
-                          const std::vector<std::string>& train_paths, double thrust_coefficient,
+                          const std::vector<std::string>& train_paths,
+                          std::map<std::string, std::string> estimate_of, double thrust_coefficient,
                           const DragLaw& drag) {
   YAML::Node n = YAML::LoadFile(FLAGS_config);
   n["data"]["train"] = train_paths;
+  if (n["data"]["train_estimates"]) {
+    std::vector<std::string> estimates;
+    for (const auto& p : train_paths) estimates.push_back(estimate_of[p]);
+    n["data"]["train_estimates"] = estimates;
+  }
   n["data"].remove("refit_thrust_coefficient");
   n["data"]["thrust_coefficient"] = thrust_coefficient;
   if (drag.enabled()) {
@@ -149,9 +156,12 @@ int main(int argc, char** argv) {
   return runTool([] {
     const ConfigReader config = ConfigReader::fromFile(FLAGS_config);
     const ConfigReader data = config.section("data");
-    std::vector<std::string> train_paths, validation_paths;
+    std::vector<std::string> train_paths, validation_paths, train_estimates, validation_estimates;
     data.read("train", &train_paths);
     data.readOptional("validation", &validation_paths);
+    // Supervision from an estimate (no motion capture): one hdvio_run result folder per flight.
+    data.readOptional("train_estimates", &train_estimates);
+    data.readOptional("validation_estimates", &validation_estimates);
     if (FLAGS_list_flights) {
       for (const auto& p : train_paths) std::cout << p << "\n";
       return 0;
@@ -176,6 +186,19 @@ int main(int argc, char** argv) {
     learned::TrainOptions options = readTraining(config.section("training"));
     config.finish();
     if (train_paths.empty()) throw InputError(FLAGS_config, 0, "data.train lists no flights");
+    const bool from_estimates = !train_estimates.empty();
+    if (from_estimates && train_estimates.size() != train_paths.size())
+      throw InputError(FLAGS_config, 0, "data.train_estimates needs one result folder per data.train flight");
+    if (from_estimates != !validation_estimates.empty() && !validation_paths.empty())
+      throw InputError(FLAGS_config, 0,
+                       "data.train_estimates and data.validation_estimates go together (one supervision for all)");
+    if (!validation_estimates.empty() && validation_estimates.size() != validation_paths.size())
+      throw InputError(FLAGS_config, 0,
+                       "data.validation_estimates needs one result folder per data.validation flight");
+    std::map<std::string, std::string> estimate_of;  // flight -> its result folder ("" : ground truth)
+    for (std::size_t i = 0; i < train_estimates.size(); ++i) estimate_of[train_paths[i]] = train_estimates[i];
+    for (std::size_t i = 0; i < validation_estimates.size(); ++i)
+      estimate_of[validation_paths[i]] = validation_estimates[i];
     if (validation_paths.empty() && validation_every < 2) {
       throw InputError(FLAGS_config, 0, "give data.validation flights or data.validation_every >= 2");
     }
@@ -210,7 +233,8 @@ int main(int argc, char** argv) {
     std::vector<learned::FlightSamples> train_flights, validation_flights;
     for (const auto& p : train_paths) {
       // Only [0, use_until) of each flight is used; the rest stays unseen for testing.
-      const learned::FlightSamples f = train::fractionOf(train::loadFlight(p, source), 0.0, use_until);
+      const learned::FlightSamples f =
+          train::fractionOf(train::loadFlight(p, source, estimate_of[p]), 0.0, use_until);
       // Without separate validation flights, every validation_every-th block of each training
       // flight validates.
       train::splitIntoBlocks(f, static_cast<std::size_t>(block_seconds * arch.sample_rate_hz),
@@ -218,7 +242,8 @@ int main(int argc, char** argv) {
                              &train_flights, &validation_flights);
       std::cout << p << ": " << f.size() << " samples (" << f.size() / arch.sample_rate_hz << " s)\n";
     }
-    for (const auto& p : validation_paths) validation_flights.push_back(train::loadFlight(p, source));
+    for (const auto& p : validation_paths)
+      validation_flights.push_back(train::loadFlight(p, source, estimate_of[p]));
 
     if (fit_drag) drag = train::fitDragLawOn(train_flights, drag_terms, drag_sigma_terms);
     if (drag.enabled())
@@ -232,7 +257,7 @@ int main(int argc, char** argv) {
                 << (fit_drag ? " (fitted on the training part)" : "") << "\n";
     options.drag = drag;
     if (!FLAGS_effective_config.empty())
-      writeEffectiveConfig(FLAGS_effective_config, fold_note, train_paths, thrust_coefficient, drag);
+      writeEffectiveConfig(FLAGS_effective_config, fold_note, train_paths, estimate_of, thrust_coefficient, drag);
     if (FLAGS_fit_only) return 0;
     learned::Trainer trainer(arch, options);
     const learned::TrainingResult result = trainer.train(train_flights, validation_flights, std::cout);
@@ -240,9 +265,12 @@ int main(int argc, char** argv) {
     const auto& best = result.history[result.best_epoch];
     std::cout << "best epoch " << result.best_epoch << ": validation loss " << first.validation_loss
               << " -> " << best.validation_loss << "\n";
-    const std::string comment = "trained by hdvio_train --config " + FLAGS_config +
-                                "\nbest epoch " + std::to_string(result.best_epoch) +
-                                ", validation loss " + std::to_string(best.validation_loss);
+    std::string comment = "trained by hdvio_train --config " + FLAGS_config +
+                          "\nbest epoch " + std::to_string(result.best_epoch) +
+                          ", validation loss " + std::to_string(best.validation_loss);
+    for (const auto* paths : {&train_paths, &validation_paths})  // where the supervision came from
+      for (const auto& p : *paths)
+        if (!estimate_of[p].empty()) comment += "\nsupervision of " + p + ": the estimate in " + estimate_of[p];
     // What the estimator must be told about the model: how fast its error on the validation
     // part moves (learned/force_model_error.h), the least walk of the external force.
     // Flights without an accelerometer (supervision needs only positions and velocities) say
@@ -255,10 +283,11 @@ int main(int argc, char** argv) {
       std::printf("model error walk: no measured force on the validation part, none written\n");
     else
       std::printf("model error walk on the validation part: %.4g m/s^2/sqrt(s)\n", walk);
-    if (drag.enabled() || walk > 0.0) {  // version 3 carries the law, 5 the walk
+    if (drag.enabled() || walk > 0.0 || from_estimates) {  // 3: the law, 5: the walk, 6: supervision
       learned::TcnFileInfo info;
       info.drag_law = drag;
       info.force_walk = walk;
+      info.supervision = from_estimates ? "estimate" : "groundtruth";
       saveTcnFile(result.best, info, FLAGS_out, comment);
     } else {
       saveTcnWeights(result.best, FLAGS_out, comment);

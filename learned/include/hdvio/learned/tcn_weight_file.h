@@ -39,6 +39,10 @@
 // Version 5 (a force network with the walk of its held-out error, force_model_error.h) is
 // version 4 with "force_walk <m/s^2/sqrt(s)>" after sample_times; written only when positive.
 //
+// Version 6 (a force network trained on an estimator's trajectory instead of ground truth,
+// hdvio_train's data.train_estimates) is version 5 with "supervision groundtruth|estimate" after
+// force_walk; written only for "estimate".
+//
 // Blank lines and lines starting with '#' are ignored. Any other deviation (missing or extra
 // tensor, wrong shape, unparsable or non-finite number, data after "end") is an InputError
 // naming the file and the line.
@@ -58,6 +62,7 @@ struct TcnFileInfo {
   DragLaw drag_law;                    // force networks: the law they complement (none: zero)
   std::string sample_times = "end";    // "end" | "begin": displacement window sample times
   double force_walk = 0.0;             // force networks: random walk of their error (0: unknown)
+  std::string supervision = "groundtruth";  // "groundtruth" | "estimate": the training targets
 };
 
 enum class TcnEncoding { kText, kFloat32 };
@@ -67,10 +72,11 @@ struct TcnFile {
   TcnFileInfo info;
 };
 
-// Versions 1 to 5. Version 1 files get the default info.
+// Versions 1 to 6. Version 1 files get the default info.
 TcnFile loadTcnFile(const std::string& path);
 TcnFile parseTcnFile(const std::string& text, const std::string& name);
-// Version 2, 3 when info holds a drag law, 4 with a version-4 field, 5 with a force walk.
+// Version 2, 3 when info holds a drag law, 4 with a version-4 field, 5 with a force walk, 6 for
+// a network supervised by an estimate.
 std::string formatTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& comment = "",
                           TcnEncoding encoding = TcnEncoding::kText);
 void saveTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& path,

@@ -20,7 +20,10 @@ std::string resolvePath(const std::string& root, const std::string& path);
 std::vector<std::string> splitList(const std::string& list);
 
 Sequence loadSequence(const std::string& path, const FlightSource& source);
-learned::FlightSamples loadFlight(const std::string& path, const FlightSource& source);
+// With estimate_dir (an hdvio_run result folder of this flight) its states are the supervision
+// in place of the flight's ground truth (estimate_supervision.h).
+learned::FlightSamples loadFlight(const std::string& path, const FlightSource& source,
+                                  const std::string& estimate_dir = "");
 
 // NeuroBEM CSV files (their own model's force prediction is a column).
 bool isNeuroBemFile(const std::string& path);
