@@ -1,16 +1,16 @@
 // gate_io end to end on the tiny simulated race (config/sim/ci_race_tiny.yaml): the simulator's
 // gate-corner detections agree with the camera model, the EKF with gate updates tracks the
 // ground truth and recovers from a wrong initial state that IMU dead reckoning never corrects,
-// and the hdvio_run pipeline rejects bad configs and sequences without gate files.
+// and the hdvio_run pipeline rejects bad configs and sequences without gate files. The runs go
+// through the pipeline's InertialEstimator (the ImoStepper with the gate-corner updater).
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <optional>
 
-#include "hdvio/backend/imo/gate_io_runner.h"
 #include "hdvio/core/config.h"
 #include "hdvio/core/error.h"
-#include "hdvio/pipeline/gate_estimator.h"
+#include "hdvio/pipeline/inertial_sequence_runner.h"
 #include "hdvio/sim/gate_detections.h"
 #include "hdvio/sim/simulator.h"
 
@@ -37,9 +37,13 @@ const Race& tinyRace() {
   return race;
 }
 
-GateIoOptions raceOptions() {
-  GateIoOptions o;  // as config/experiments/gate_io.yaml, with the IMU densities of ci_race_tiny (EuRoC)
-  ImoFilterOptions& f = o.imo.filter;
+InertialEstimatorOptions raceOptions() {
+  // As config/experiments/gate_io.yaml, with the IMU densities of ci_race_tiny (EuRoC).
+  const Sequence& seq = tinyRace().result.sequence;
+  InertialEstimatorOptions o;
+  o.displacement = DisplacementUse::kNone;
+  o.gate = GateCornerUpdates{GateCornerOptions{}, CameraModel::fromCalibration(*seq.camera), seq.camera->T_BS};
+  ImoFilterOptions& f = o.run.filter;
   f.gyro_noise_density = 1.6968e-4;
   f.accel_noise_density = 2.0e-3;
   f.gyro_random_walk = 1.9393e-5;
@@ -49,8 +53,8 @@ GateIoOptions raceOptions() {
   f.init_position_sigma = 0.1;
   f.init_gyro_bias_sigma = 1e-3;
   f.init_accel_bias_sigma = 0.05;
-  o.pixel_sigma = 1.0;
-  o.gate_probability = 0.999;
+  o.gate->options.pixel_sigma = 1.0;
+  o.gate->options.gate_probability = 0.999;
   return o;
 }
 
@@ -75,11 +79,18 @@ double positionRmse(const Sequence& seq, const std::vector<NavState>& states, do
   return std::sqrt(sum / std::max(1, n));
 }
 
-GateIoOutput runOnRace(const GateIoOptions& options, const NavState& init, bool with_gates) {
+// The race's IMU from init (its first sample) and the frames through an InertialEstimator.
+ImoRunOutput runRace(const InertialEstimatorOptions& options, const NavState& init,
+                       const std::vector<GateFrame>& frames, const DisplacementSource& source = {}) {
+  const Sequence& seq = tinyRace().result.sequence;
+  DisplacementSourceFactory factory;
+  if (source) factory = [source](const InertialBuffers&) { return source; };
+  return runInertialOnSequence(seq, {}, frames, seq.imu, init, options, factory);
+}
+
+ImoRunOutput runOnRace(const InertialEstimatorOptions& options, const NavState& init, bool with_gates) {
   const Race& race = tinyRace();
-  const Sequence& seq = race.result.sequence;
-  const std::vector<GateFrame> frames = with_gates ? hdvio::gateFrames(race.result.gates) : std::vector<GateFrame>{};
-  return runGateIo(seq.imu, init, options, CameraModel::fromCalibration(*seq.camera), seq.camera->T_BS, frames, {});
+  return runRace(options, init, with_gates ? hdvio::gateFrames(race.result.gates) : std::vector<GateFrame>{});
 }
 
 TEST(GateIoSim, DetectionsAreNoisyProjectionsOfVisibleMapCorners) {
@@ -144,7 +155,7 @@ TEST(GateIoSim, GateFramesHideCornersBehindTheirBars) {
 
 TEST(GateIoSim, TracksTheTruthFromTheTrueStart) {
   const Sequence& seq = tinyRace().result.sequence;
-  const GateIoOutput out = runOnRace(raceOptions(), truthAt(seq, 0), true);
+  const ImoRunOutput out = runOnRace(raceOptions(), truthAt(seq, 0), true);
   ASSERT_EQ(out.states.size(), seq.imu.size());
   const double rmse = positionRmse(seq, out.states, 0.0);
   std::printf("gate_io on ci_race_tiny from the true start: position RMSE %.4f m, %d frames (%ld corners), %d gated out\n",
@@ -160,12 +171,12 @@ TEST(GateIoSim, RecoversFromAWrongStartThatDeadReckoningKeeps) {
   init.T_WB.p += Vec3(0.3, -0.2, 0.1);
   init.v_W += Vec3(0.0, 0.3, 0.0);
   init.T_WB.q = init.T_WB.q * quatExp(Vec3(0.0, 0.0, 3.0 * M_PI / 180.0));
-  GateIoOptions o = raceOptions();
-  o.imo.filter.init_position_sigma = 0.5;
-  o.imo.filter.init_velocity_sigma = 0.5;
-  o.imo.filter.init_yaw_sigma = 5.0 * M_PI / 180.0;
-  const GateIoOutput gated = runOnRace(o, init, true);
-  const GateIoOutput dead = runOnRace(o, init, false);
+  InertialEstimatorOptions o = raceOptions();
+  o.run.filter.init_position_sigma = 0.5;
+  o.run.filter.init_velocity_sigma = 0.5;
+  o.run.filter.init_yaw_sigma = 5.0 * M_PI / 180.0;
+  const ImoRunOutput gated = runOnRace(o, init, true);
+  const ImoRunOutput dead = runOnRace(o, init, false);
   const double rmse_gate = positionRmse(seq, gated.states, 3.0);
   const double rmse_dead = positionRmse(seq, dead.states, 3.0);
   std::printf("wrong start, last second: gate_io %.4f m, IMU dead reckoning %.4f m\n", rmse_gate, rmse_dead);
@@ -193,21 +204,19 @@ TEST(GateIoSim, FusesDisplacementsOnTheCloneGrid) {
     e.covariance = 1e-4 * Mat3::Identity();
     return e;
   };
-  GateIoOptions o = raceOptions();
-  o.fuse_displacements = true;
-  o.imo.update_rate_hz = 20.0;
-  o.imo.window_s = 0.5;
+  InertialEstimatorOptions o = raceOptions();
+  o.displacement = DisplacementUse::kFilterUpdate;
+  o.run.update_rate_hz = 20.0;
+  o.run.window_s = 0.5;
   NavState init = truthAt(seq, 0);
   init.v_W += Vec3(0.2, 0.0, 0.0);  // the displacements must correct this before the first gate
   const std::vector<GateFrame> frames = hdvio::gateFrames(race.result.gates);
-  const GateIoOutput fused = runGateIo(seq.imu, init, o, CameraModel::fromCalibration(*seq.camera),
-                                       seq.camera->T_BS, frames, source);
-  o.fuse_displacements = false;
-  const GateIoOutput gates_only = runGateIo(seq.imu, init, o, CameraModel::fromCalibration(*seq.camera),
-                                            seq.camera->T_BS, frames, {});
+  const ImoRunOutput fused = runRace(o, init, frames, source);
+  o.displacement = DisplacementUse::kNone;
+  const ImoRunOutput gates_only = runRace(o, init, frames);
   // 80 grid times, the first 9 without a full window.
   EXPECT_EQ(calls, 71);
-  EXPECT_EQ(fused.displacement_updates, 71);
+  EXPECT_EQ(fused.updates, 71);
   EXPECT_EQ(fused.frames_applied, gates_only.frames_applied);
   const double rmse_fused = positionRmse(seq, fused.states, 0.0);
   const double rmse_gates = positionRmse(seq, gates_only.states, 0.0);
@@ -215,8 +224,8 @@ TEST(GateIoSim, FusesDisplacementsOnTheCloneGrid) {
               rmse_fused, rmse_gates);
   EXPECT_LT(rmse_fused, 0.05);
   EXPECT_LT(rmse_fused, rmse_gates);  // no gate in view for the first 1.8 s
-  EXPECT_THROW(runGateIo(seq.imu, init, [&] { GateIoOptions b = o; b.fuse_displacements = true; return b; }(),
-                         CameraModel::fromCalibration(*seq.camera), seq.camera->T_BS, frames, {}),
+  EXPECT_THROW(runRace([&] { InertialEstimatorOptions b = o; b.displacement = DisplacementUse::kFilterUpdate; return b; }(),
+                         init, frames),
                std::invalid_argument);
 }
 
@@ -236,12 +245,11 @@ TEST(GateIoSim, PerCornerGateRejectsOutlierDetections) {
     ++outliers;
   }
   const std::vector<GateFrame> frames = hdvio::gateFrames(corrupted);
-  const CameraModel camera = CameraModel::fromCalibration(*seq.camera);
-  GateIoOptions o = raceOptions();
-  o.gate_probability = -1.0;
-  const GateIoOutput plain = runGateIo(seq.imu, truthAt(seq, 0), o, camera, seq.camera->T_BS, frames, {});
-  o.corner_gate_probability = 0.999;
-  const GateIoOutput gated = runGateIo(seq.imu, truthAt(seq, 0), o, camera, seq.camera->T_BS, frames, {});
+  InertialEstimatorOptions o = raceOptions();
+  o.gate->options.gate_probability = -1.0;
+  const ImoRunOutput plain = runRace(o, truthAt(seq, 0), frames);
+  o.gate->options.corner_gate_probability = 0.999;
+  const ImoRunOutput gated = runRace(o, truthAt(seq, 0), frames);
   const double rmse_plain = positionRmse(seq, plain.states, 0.0);
   const double rmse_gated = positionRmse(seq, gated.states, 0.0);
   std::printf("%d outliers: no gate %.4f m, per-corner gate %.4f m (%ld corners gated out)\n", outliers,

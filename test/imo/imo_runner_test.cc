@@ -1,4 +1,5 @@
-// The IMO run loop on an analytic flight: clone/update schedule, the filter with exact
+// The IMO run loop on an analytic flight, through the pipeline's InertialEstimator (the
+// ImoStepper with its displacement updaters): clone/update schedule, the filter with exact
 // displacements correcting a noisy biased IMU, network-only (the model source: drag_model_test).
 #include <gtest/gtest.h>
 
@@ -6,7 +7,7 @@
 #include <random>
 
 #include "analytic_trajectory.h"
-#include "hdvio/backend/imo/imo_runner.h"
+#include "hdvio/pipeline/inertial_sequence_runner.h"
 
 namespace hdvio::imo {
 namespace {
@@ -35,6 +36,19 @@ DisplacementSource groundTruthSource(double sigma, std::vector<DisplacementReque
   };
 }
 
+// The flight's IMU fed through an InertialEstimator from init (at the first sample).
+ImoRunOutput runImu(const std::vector<ImuSample>& imu, const NavState& init, const ImoRunOptions& run,
+                    const DisplacementSource& source,
+                    DisplacementUse use = DisplacementUse::kFilterUpdate) {
+  Sequence seq;
+  seq.imu = imu;
+  InertialEstimatorOptions options;
+  options.run = run;
+  options.displacement = use;
+  return runInertialOnSequence(seq, {}, {}, imu, init, options,
+                               [source](const InertialBuffers&) { return source; });
+}
+
 double positionError(const NavState& s) {
   return (s.T_WB.p - trajectoryAt(toSeconds(s.t)).p).norm();
 }
@@ -54,7 +68,7 @@ TEST(ImoRunner, UpdatesBetweenClonesOneWindowApartOnTheGrid) {
     }
     return exact(r);
   };
-  const ImoRunOutput out = runImoFilter(imu, exactNavState(0), ImoRunOptions{}, source);
+  const ImoRunOutput out = runImu(imu, exactNavState(0), ImoRunOptions{}, source);
   // Grid 0.05 s, first update once 0.5 s of clones exist: t_end = 0.5 .. 3.0.
   ASSERT_EQ(log.size(), 51u);
   EXPECT_EQ(out.updates, 51);
@@ -81,9 +95,9 @@ TEST(ImoRunner, ReleasePropagationHoldsTheNewerSampleAndTheStartAttitude) {
   init.v_W = Vec3::Zero();
   const DisplacementSource none = [](const DisplacementRequest&) { return std::optional<DisplacementEstimate>(); };
   ImoRunOptions o;
-  const double v_mid = runImoFilter(imu, init, o, none).states.back().v_W.x();
+  const double v_mid = runImu(imu, init, o, none).states.back().v_W.x();
   o.filter.release_propagation = true;
-  const double v_hold = runImoFilter(imu, init, o, none).states.back().v_W.x();
+  const double v_hold = runImu(imu, init, o, none).states.back().v_W.x();
   EXPECT_NEAR(v_mid, 0.1 * dt * n * n / 2.0, 1e-9);
   EXPECT_NEAR(v_hold, 0.1 * dt * n * (n + 1) / 2.0, 1e-9);
 
@@ -99,9 +113,9 @@ TEST(ImoRunner, ReleasePropagationHoldsTheNewerSampleAndTheStartAttitude) {
     v_start += std::cos(k * dt) * dt;
     v_midstep += std::cos((k + 0.5) * dt) * dt;
   }
-  EXPECT_NEAR(runImoFilter(imu, init, o, none).states.back().v_W.x(), v_start, 1e-9);
+  EXPECT_NEAR(runImu(imu, init, o, none).states.back().v_W.x(), v_start, 1e-9);
   o.filter.release_propagation = false;
-  EXPECT_NEAR(runImoFilter(imu, init, o, none).states.back().v_W.x(), v_midstep, 1e-9);
+  EXPECT_NEAR(runImu(imu, init, o, none).states.back().v_W.x(), v_midstep, 1e-9);
   EXPECT_GT(std::abs(v_start - v_midstep), 1e-4);
 }
 
@@ -115,7 +129,7 @@ TEST(ImoRunner, InitialWindowBiasesStayFixed) {
     std::vector<DisplacementRequest> log;
     ImoRunOptions o;
     o.initial_window_biases = fixed;
-    runImoFilter(imu, init, o, groundTruthSource(0.01, &log));
+    runImu(imu, init, o, groundTruthSource(0.01, &log));
     ASSERT_GT(log.size(), 10u);
     double moved = 0.0;
     for (const auto& r : log)
@@ -145,9 +159,9 @@ TEST(ImoRunner, ExactDisplacementsCorrectNoisyBiasedImu) {
   o.filter.init_velocity_sigma = 0.01;
   o.filter.init_attitude_sigma = o.filter.init_yaw_sigma = 0.01;
 
-  const ImoRunOutput filtered = runImoFilter(imu, exactNavState(0), o, groundTruthSource(0.01));
-  const ImoRunOutput dead_reckoning = runImoFilter(
-      imu, exactNavState(0), o, [](const DisplacementRequest&) { return std::nullopt; });
+  const ImoRunOutput filtered = runImu(imu, exactNavState(0), o, groundTruthSource(0.01));
+  const ImoRunOutput dead_reckoning =
+      runImu(imu, exactNavState(0), o, [](const DisplacementRequest&) { return std::nullopt; });
   EXPECT_EQ(dead_reckoning.no_measurement, filtered.updates);
   EXPECT_GT(positionError(dead_reckoning.states.back()), 5.0);
   double max_err = 0.0;
@@ -179,7 +193,7 @@ TEST(ImoRunner, InnovationsAreLoggedAndTheirNisMatchesTheMeasurementNoise) {
   o.filter.init_attitude_sigma = o.filter.init_yaw_sigma = 0.01;
   const auto meanNis = [&](double noise, double sigma) {
     o.measurement_sigma = Vec3::Constant(sigma);
-    const ImoRunOutput out = runImoFilter(imu, exactNavState(0), o, groundTruthSource(noise));
+    const ImoRunOutput out = runImu(imu, exactNavState(0), o, groundTruthSource(noise));
     EXPECT_EQ(out.innovations.size(), static_cast<std::size_t>(out.updates));
     double sum = 0.0;
     int count = 0;
@@ -206,7 +220,7 @@ TEST(ImoRunner, InnovationsAreLoggedAndTheirNisMatchesTheMeasurementNoise) {
 TEST(ImoRunner, NetworkOnlyConcatenatesDisplacements) {
   const auto imu = simulateImu(100.0, 5.0);
   ImoRunOptions o;
-  const ImoRunOutput out = runNetworkOnly(imu, exactNavState(0), o, groundTruthSource(0.0));
+  const ImoRunOutput out = runImu(imu, exactNavState(0), o, groundTruthSource(0.0), DisplacementUse::kConcatenate);
   ASSERT_EQ(out.states.size(), 101u);  // t = 0 and the 100 grid times
   EXPECT_EQ(out.updates, 91);
   for (const auto& s : out.states) EXPECT_LT(positionError(s), 1e-2) << toSeconds(s.t);

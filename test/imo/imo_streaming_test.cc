@@ -1,8 +1,8 @@
 // The IMO filter family on the real IMU of the Blackbird validation flight: the filter with
 // true displacements tracks the ground truth, and the streaming InertialEstimator (IMU and
 // thrust fed sample by sample, the thrust 30 ms late; windows wait for the thrust up to their
-// end) gives exactly the states of the whole-flight run (imo::runImoFilter / runNetworkOnly) for the Model-EKF and the
-// shipped imo network.
+// end) gives exactly the states of the run whose source sees the whole flight at once (what
+// hdvio_run does, runInertialOnSequence) for the Model-EKF and the shipped imo network.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,10 +11,10 @@
 
 #include "../common/blackbird_val.h"
 #include "hdvio/backend/imo/drag_model.h"
-#include "hdvio/backend/imo/imo_runner.h"
 #include "hdvio/io/sequence_reader.h"
 #include "hdvio/pipeline/displacement_network_source.h"
 #include "hdvio/pipeline/inertial_estimator.h"
+#include "hdvio/pipeline/inertial_sequence_runner.h"
 
 namespace hdvio {
 namespace {
@@ -30,6 +30,15 @@ std::vector<ImuSample> span(const Sequence& seq, double duration_s) {
     if (s.t >= seq.groundtruth.front().t && s.t <= seq.groundtruth.front().t + fromSeconds(duration_s))
       imu.push_back(s);
   return imu;
+}
+
+// The flight through runInertialOnSequence with a source over all of its data (the whole
+// flight at once): the reference the streamed runs must equal.
+imo::ImoRunOutput wholeFlight(const Sequence& seq, const std::vector<ThrustSample>& thrust,
+                              const std::vector<ImuSample>& imu, const NavState& init,
+                              const InertialEstimatorOptions& options, const imo::DisplacementSource& source) {
+  return runInertialOnSequence(seq, thrust, {}, imu, init, options,
+                               [source](const InertialBuffers&) { return source; });
 }
 
 // The filter on the real IMU of the Blackbird validation flight, updated with ground-truth
@@ -49,10 +58,9 @@ TEST(ImoFilterRun, FilterOnRealImuWithTrueDisplacementsTracksGroundTruth) {
                                          groundTruthState(seq, r.t_begin).T_WB.p,
                                      Mat3::Identity()};
   };
-  const imo::ImoRunOutput out = imo::runImoFilter(imu, init, imo::ImoRunOptions{}, truth);
-  const imo::ImoRunOutput dead = imo::runImoFilter(
-      imu, init, imo::ImoRunOptions{},
-      [](const imo::DisplacementRequest&) { return std::nullopt; });
+  const imo::ImoRunOutput out = wholeFlight(seq, {}, imu, init, InertialEstimatorOptions{}, truth);
+  const imo::ImoRunOutput dead = wholeFlight(seq, {}, imu, init, InertialEstimatorOptions{},
+                                             [](const imo::DisplacementRequest&) { return std::nullopt; });
   double max_err = 0.0, max_dead = 0.0;
   const double rmse = positionRmse(seq, out.states, &max_err);
   positionRmse(seq, dead.states, &max_dead);
@@ -112,8 +120,8 @@ TEST(InertialStreaming, ModelEkfFedSampleBySampleEqualsTheWholeFlightRun) {
   options.source_needs_thrust = true;
   const Vec3 sigma = options.run.measurement_sigma;
   const Vec3 g = options.run.filter.gravity;
-  const imo::ImoRunOutput whole = imo::runImoFilter(
-      imu, init, options.run, imo::makeDragModelSource(thrust, drag, 0.005, sigma, g, true));
+  const imo::ImoRunOutput whole = wholeFlight(
+      seq, thrust, imu, init, options, imo::makeDragModelSource(thrust, drag, 0.005, sigma, g, true));
   imo::ImoRunOutput counts;
   const std::vector<NavState> states = streamed(
       seq, thrust, imu, init, options,
@@ -139,14 +147,12 @@ TEST(InertialStreaming, ImoNetworkAndNetworkOnlyFedSampleBySampleEqualTheWholeFl
     InertialEstimatorOptions options;
     options.run.window_s = model->windowSeconds();
     options.run.use_source_covariance = model->hasCovariance();
-    options.network_only = network_only;
+    options.displacement = network_only ? DisplacementUse::kConcatenate : DisplacementUse::kFilterUpdate;
     options.source_needs_thrust = true;
     const imo::DisplacementSource whole_source = networkDisplacementSource(
         model, std::make_shared<const std::vector<ImuSample>>(seq.imu),
         std::make_shared<const std::vector<ThrustSample>>(thrust));
-    const imo::ImoRunOutput whole = network_only
-                                        ? imo::runNetworkOnly(imu, init, options.run, whole_source)
-                                        : imo::runImoFilter(imu, init, options.run, whole_source);
+    const imo::ImoRunOutput whole = wholeFlight(seq, thrust, imu, init, options, whole_source);
     imo::ImoRunOutput counts;
     const std::vector<NavState> states = streamed(
         seq, thrust, imu, init, options,

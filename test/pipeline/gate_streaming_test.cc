@@ -1,5 +1,6 @@
 // The streaming example of gate_io: the tiny simulated race fed sample by sample (IMU, thrust
-// 30 ms late, gate frames; merged in time order) through the public GateEstimator, as a live
+// 30 ms late, gate frames; merged in time order) through the public InertialEstimator with gate
+// updates, as a live
 // program would, gives the trajectory hdvio_run writes for the same race and experiment, byte
 // for byte in hdvio_run's format: config/experiments/gate_io.yaml (gate updates only) and
 // gate_io_network.yaml (with the shipped displacement network, whose windows wait for the
@@ -24,7 +25,8 @@
 #include "hdvio/io/sequence_reader.h"
 #include "hdvio/learned/displacement_model.h"
 #include "hdvio/pipeline/displacement_network_source.h"
-#include "hdvio/pipeline/gate_estimator.h"
+#include "hdvio/pipeline/inertial_estimator.h"
+#include "hdvio/pipeline/inertial_sequence_runner.h"
 #include "hdvio/sim/simulator.h"
 
 namespace hdvio {
@@ -33,13 +35,15 @@ namespace fs = std::filesystem;
 
 // The experiment's gate and filter options, read as hdvio_run reads them (apps/run
 // imo_config.cc: the sigmas of the attitude in degrees).
-GateEstimatorOptions optionsOf(const ConfigReader& cfg) {
-  GateEstimatorOptions o;
+InertialEstimatorOptions optionsOf(const ConfigReader& cfg, const CameraModel& camera, const Pose& T_BC) {
+  InertialEstimatorOptions o;
+  o.displacement = DisplacementUse::kNone;
+  o.gate = GateCornerUpdates{imo::GateCornerOptions{}, camera, T_BC};
   const ConfigReader g = cfg.section("gate");
-  g.readOptional("pixel_sigma", &o.gate.pixel_sigma);
-  g.readOptional("gate_probability", &o.gate.gate_probability);
+  g.readOptional("pixel_sigma", &o.gate->options.pixel_sigma);
+  g.readOptional("gate_probability", &o.gate->options.gate_probability);
   const ConfigReader f = cfg.section("filter");
-  imo::ImoFilterOptions& fo = o.gate.imo.filter;
+  imo::ImoFilterOptions& fo = o.run.filter;
   f.readOptional("gyro_noise_density", &fo.gyro_noise_density);
   f.readOptional("accel_noise_density", &fo.accel_noise_density);
   f.readOptional("gyro_random_walk", &fo.gyro_random_walk);
@@ -53,8 +57,8 @@ GateEstimatorOptions optionsOf(const ConfigReader& cfg) {
   f.readOptional("init_position_sigma", &fo.init_position_sigma);
   f.readOptional("init_gyro_bias_sigma", &fo.init_gyro_bias_sigma);
   f.readOptional("init_accel_bias_sigma", &fo.init_accel_bias_sigma);
-  f.readOptional("update_rate_hz", &o.gate.imo.update_rate_hz);
-  f.readOptional("use_source_covariance", &o.gate.imo.use_source_covariance);
+  f.readOptional("update_rate_hz", &o.run.update_rate_hz);
+  f.readOptional("use_source_covariance", &o.run.use_source_covariance);
   return o;
 }
 
@@ -83,7 +87,7 @@ class GateStreaming : public ::testing::Test {
     delete dir_;
   }
 
-  // hdvio_run with the experiment, then the same race streamed through a GateEstimator.
+  // hdvio_run with the experiment, then the same race streamed through an InertialEstimator.
   void expectStreamingMatchesHdvioRun(const std::string& experiment) {
     const std::string config = std::string(HDVIO_SOURCE_DIR) + "/config/experiments/" + experiment;
     const fs::path out = *dir_ / ("out_" + experiment);
@@ -93,22 +97,22 @@ class GateStreaming : public ::testing::Test {
                                                       out.string());
     ASSERT_EQ(run.exit_code, 0) << run.output;
 
+    const Sequence seq = io::readSequence(dataset);
     const ConfigReader cfg = ConfigReader::fromFile(config);
-    GateEstimatorOptions options = optionsOf(cfg);
+    InertialEstimatorOptions options = optionsOf(cfg, CameraModel::fromCalibration(*seq.camera), seq.camera->T_BS);
     DisplacementSourceFactory source;
     if (cfg.has("network")) {
       std::string weights;
       cfg.section("network").read("weights", &weights);
       const auto model = std::make_shared<const learned::DisplacementModel>(
           learned::DisplacementModel::load((fs::path(config).parent_path() / weights).string()));
-      options.gate.fuse_displacements = true;
-      options.gate.imo.window_s = model->windowSeconds();
+      options.displacement = DisplacementUse::kFilterUpdate;
+      options.run.window_s = model->windowSeconds();
       options.source_needs_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
       ASSERT_TRUE(options.source_needs_thrust);
       source = [model](const InertialBuffers& b) { return networkDisplacementSource(model, b.imu, b.thrust); };
     }
 
-    const Sequence seq = io::readSequence(dataset);
     const std::vector<imo::GateFrame> frames = gateFrames(io::readGateData(dataset));
     const std::vector<ThrustSample> thrust = thrustSamples(seq);
     ASSERT_GT(frames.size(), 40u);
@@ -129,7 +133,8 @@ class GateStreaming : public ::testing::Test {
       return a.t != b.t ? a.t < b.t : a.kind < b.kind;
     });
 
-    GateEstimator estimator(options, CameraModel::fromCalibration(*seq.camera), seq.camera->T_BS, source);
+    const bool fusing = options.displacement == DisplacementUse::kFilterUpdate;
+    InertialEstimator estimator(options, source);
     Timestamp previous_imu = -1;
     int lagging = 0;
     for (const Event& e : events) {
@@ -146,16 +151,16 @@ class GateStreaming : public ::testing::Test {
       previous_imu = e.t;
     }
     estimator.finish();
-    if (options.gate.fuse_displacements) {
+    if (fusing) {
       EXPECT_GT(lagging, 0);  // the thrust wait is real
     } else {
       EXPECT_EQ(lagging, 0);
     }
-    const imo::GateIoOutput& result = estimator.output();
+    const imo::ImoRunOutput& result = estimator.output();
     EXPECT_EQ(result.states.size(), static_cast<std::size_t>(seq.imu.end() - first));
     EXPECT_GT(result.frames_applied, 40);
-    if (options.gate.fuse_displacements) {
-      EXPECT_GT(result.displacement_updates, 40);
+    if (fusing) {
+      EXPECT_GT(result.updates, 40);
     }
 
     EXPECT_TRUE(test::readFile(out / "stamped_traj_estimate.txt") == test::trajectoryText(result.states))

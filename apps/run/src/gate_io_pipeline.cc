@@ -13,8 +13,8 @@
 #include "hdvio/core/sequence.h"
 #include "hdvio/io/gate_corners.h"
 #include "hdvio/pipeline/displacement_network_source.h"
-#include "hdvio/pipeline/gate_sequence_runner.h"
 #include "hdvio/learned/displacement_model.h"
+#include "hdvio/pipeline/inertial_sequence_runner.h"
 #include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
 #include "hdvio/run/progress.h"
@@ -27,23 +27,23 @@ class GateIoPipeline : public MethodPipeline {
   GateIoPipeline(const ConfigReader& cfg, const ExperimentFile& file) : file_(file) {
     std::string displacement = "none";
     cfg.readChoice("displacement", &displacement, {"none", "network"});
-    options_.fuse_displacements = displacement == "network";
+    fuse_displacements_ = displacement == "network";
     const ConfigReader g = cfg.optionalSection("gate");
-    g.readInRange("pixel_sigma", &options_.pixel_sigma, 1e-3, 100.0);
-    g.readInRange("gate_probability", &options_.gate_probability, -1.0, 0.999999);
-    g.readInRange("corner_gate_probability", &options_.corner_gate_probability, -1.0, 0.999999);
+    g.readInRange("pixel_sigma", &gate_.pixel_sigma, 1e-3, 100.0);
+    g.readInRange("gate_probability", &gate_.gate_probability, -1.0, 0.999999);
+    g.readInRange("corner_gate_probability", &gate_.corner_gate_probability, -1.0, 0.999999);
     g.readOptional("use_detections", &use_detections_);
     g.finish();
-    ImoFilterSection filter{&options_.imo, init_gyro_bias_, init_accel_bias_};
+    ImoFilterSection filter{&run_, init_gyro_bias_, init_accel_bias_};
     readImoFilterSection(cfg.optionalSection("filter"), file.path, &filter);
     init_gyro_bias_ = filter.init_gyro_bias;
     init_accel_bias_ = filter.init_accel_bias;
     release_first_window_sample_ = filter.release_first_window_sample;
-    if (options_.fuse_displacements) {
+    if (fuse_displacements_) {
       model_ = loadDisplacementNetwork(cfg.section("network"), file.dir);
-      options_.imo.window_s = model_->windowSeconds();
+      run_.window_s = model_->windowSeconds();
       try {
-        imo::checkRunOptions(options_.imo);
+        imo::checkRunOptions(run_);
       } catch (const std::invalid_argument& e) {
         throw InputError(file.path, 0, e.what());
       }
@@ -75,30 +75,32 @@ class GateIoPipeline : public MethodPipeline {
     const CameraModel camera = CameraModel::fromCalibration(*seq.camera);
     Progress progress("gate_io", imu.front().t, imu.back().t);
     const auto on_progress = [&progress](Timestamp t) { progress.update(t); };
-    GateEstimatorOptions options;
-    options.gate = options_;
+    InertialEstimatorOptions options;
+    options.run = run_;
+    options.displacement = fuse_displacements_ ? DisplacementUse::kFilterUpdate : DisplacementUse::kNone;
+    options.gate = GateCornerUpdates{gate_, camera, seq.camera->T_BS};
     options.source_needs_thrust = model_ && model_->inputKind() == learned::DisplacementInputKind::kThrustGyro;
-    const imo::GateIoOutput out = runGateIoOnSequence(seq, thrust, frames, imu, init, options, camera,
-                                                      seq.camera->T_BS, sourceFactory(imu.front().t), on_progress);
+    const imo::ImoRunOutput out =
+        runInertialOnSequence(seq, thrust, frames, imu, init, options, sourceFactory(imu.front().t), on_progress);
     progress.finish();
 
     RunResults results;
     results.states = out.states;
     results.stages.push_back({"propagation", out.propagation_s, static_cast<int>(imu.size())});
     results.stages.push_back({"gate_update", out.gate_update_s, out.frames_applied + out.frames_rejected});
-    if (options_.fuse_displacements) {
-      const int n = out.displacement_updates + out.displacement_rejected + out.no_displacement;
+    if (fuse_displacements_) {
+      const int n = out.updates + out.rejected + out.no_measurement;
       results.stages.push_back({"network", out.source_s, n});
-      results.stages.push_back({"displacement_update", out.displacement_update_s, n});
+      results.stages.push_back({"displacement_update", out.update_s, n});
     }
     std::fprintf(stderr,
                  "hdvio_run: gate updates: %d frames applied (%ld corners), %d gated out, %zu frames "
                  "with detections, mean chi2 per dof %.2f, %ld corners gated out\n",
                  out.frames_applied, out.corners_used, out.frames_rejected, frames.size(),
                  out.mean_chi2_per_dof, out.corners_rejected);
-    if (options_.fuse_displacements)
+    if (fuse_displacements_)
       std::fprintf(stderr, "hdvio_run: displacements: %d applied, %d gated out, %d without measurement\n",
-                   out.displacement_updates, out.displacement_rejected, out.no_displacement);
+                   out.updates, out.rejected, out.no_measurement);
     return results;
   }
 
@@ -115,7 +117,9 @@ class GateIoPipeline : public MethodPipeline {
   }
 
   ExperimentFile file_;
-  imo::GateIoOptions options_;
+  imo::ImoRunOptions run_;         // filter noise and initial covariance; grid/window for displacements
+  imo::GateCornerOptions gate_;
+  bool fuse_displacements_ = false;
   std::shared_ptr<const learned::DisplacementModel> model_;
   Vec3 init_gyro_bias_ = Vec3::Zero();
   Vec3 init_accel_bias_ = Vec3::Zero();

@@ -99,12 +99,12 @@ class InertialPipeline : public MethodPipeline {
 
     InertialEstimatorOptions options;
     options.run = options_;
-    options.network_only = method_ == "net_only";
+    options.displacement = method_ == "net_only" ? DisplacementUse::kConcatenate : DisplacementUse::kFilterUpdate;
     options.source_needs_thrust = needs_thrust;
     Progress progress(method_, imu.front().t, imu.back().t);
     const auto on_progress = [&progress](Timestamp t) { progress.update(t); };
     const imo::ImoRunOutput out =
-        runInertialOnSequence(seq, thrust, imu, init, options, sourceFactory(imu.front().t), on_progress);
+        runInertialOnSequence(seq, thrust, {}, imu, init, options, sourceFactory(imu.front().t), on_progress);
     progress.finish();
 
     RunResults results;

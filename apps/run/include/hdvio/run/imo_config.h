@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "hdvio/backend/imo/displacement_source.h"
-#include "hdvio/backend/imo/imo_runner.h"
+#include "hdvio/backend/imo/imo_stepper.h"
 #include "hdvio/core/config.h"
 #include "hdvio/core/sequence.h"
 #include "hdvio/learned/displacement_model.h"

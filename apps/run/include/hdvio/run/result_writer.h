@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "hdvio/backend/imo/imo_runner.h"
+#include "hdvio/backend/imo/imo_stepper.h"
 #include "hdvio/core/nav_state.h"
 
 namespace hdvio::run {

@@ -44,7 +44,7 @@ struct ImoFilterOptions {
   double mahalanobis_factor = -1.0;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
   // Propagate as the IMO release's scekf.propagate: each IMU interval takes its newer sample
-  // (zero-order hold, in runImoFilter) and the specific force is rotated with the attitude at
+  // (zero-order hold, in ImoStepper) and the specific force is rotated with the attitude at
   // the step's start (first order). false: the two samples' mean, mid-step attitude.
   bool release_propagation = false;
   // The attitude error convention (imo_propagation.h). The initial attitude sigmas are taken in

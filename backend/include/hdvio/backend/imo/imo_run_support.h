@@ -1,5 +1,5 @@
 #pragma once
-// What the IMU-driven runners (imo_runner: imo/tlio/model_ekf/net_only, gate_io_runner) share:
+// What the IMO EKF driver and its updaters (imo_stepper.h, imo_updaters.h) share:
 // conversions between the filter's nominal state and NavState, IMU interpolation at split
 // times and the gyro-integrated rotation history for network windows (their CPU clock is
 // core/thread_clock.h).
