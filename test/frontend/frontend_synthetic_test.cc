@@ -39,6 +39,23 @@ class FrontendSyntheticFlight : public ::testing::Test {
     if (fe.wantsPosePrior()) p.T_WB = bodyPose(k);  // stands in for the backend
     return p;
   }
+  // Observations of image b more than 2 px from their landmark's true point (where the
+  // landmark's ray from the map's first camera a meets the room).
+  int farOff(const SemiDirectFrontend& fe, const FrameResult& r, const Pose& a, const Pose& b) const {
+    int far_off = 0;
+    for (const auto& o : r.observations) {
+      const Vec3 p_w = fe.map().landmarks.at(o.landmark_id)->p_w;
+      Vec3 hit;
+      room_.castRay(a.p, (p_w - a.p).normalized(), &hit);
+      Vec2 truth;
+      if (!camera_.project(b.inverse() * hit, &truth)) {
+        ADD_FAILURE() << "landmark " << o.landmark_id << " is not in view of b";
+        continue;
+      }
+      far_off += (o.px - truth).norm() > 2.0;
+    }
+    return far_off;
+  }
   test::SyntheticRoom room_;
   CameraModel camera_;
 };
@@ -152,16 +169,7 @@ TEST_F(FrontendSyntheticFlight, NewMapThatMissesSearchesItsSeedsAlongTheEpipolar
   ASSERT_TRUE(r.tracked);
   EXPECT_FALSE(r.reinitialized);
   EXPECT_LT((r.T_WB.p - prior.T_WB->p).norm(), 1e-9);  // the given pose is kept
-  // Each observation against its landmark's true point: where its first ray meets the room.
-  int far_off = 0;
-  for (const auto& o : r.observations) {
-    const Vec3 p_w = fe.map().landmarks.at(o.landmark_id)->p_w;
-    Vec3 hit;
-    room_.castRay(a.p, (p_w - a.p).normalized(), &hit);
-    Vec2 truth;
-    ASSERT_TRUE(camera_.project(b.inverse() * hit, &truth));
-    far_off += (o.px - truth).norm() > 2.0;
-  }
+  const int far_off = farOff(fe, r, a, b);
   std::printf("%d matched of %d landmarks, %d more than 2 px off\n", r.tracked_features,
               r.landmarks, far_off);
   EXPECT_GE(r.tracked_features, 100);
@@ -185,15 +193,7 @@ TEST_F(FrontendSyntheticFlight, BootstrappingMatchesLandmarksWhereTheirSeedsWere
     const FrameResult r = fe.track({1'000'000'000LL + k * 50'000'000LL, room_.render(camera_, b)}, prior);
     ASSERT_TRUE(r.tracked);
     ASSERT_FALSE(r.reinitialized);
-    int far_off = 0;
-    for (const auto& o : r.observations) {
-      const Vec3 p_w = fe.map().landmarks.at(o.landmark_id)->p_w;
-      Vec3 hit;
-      room_.castRay(a.p, (p_w - a.p).normalized(), &hit);
-      Vec2 truth;
-      ASSERT_TRUE(camera_.project(b.inverse() * hit, &truth));
-      far_off += (o.px - truth).norm() > 2.0;
-    }
+    const int far_off = farOff(fe, r, a, b);
     std::printf("image %d: %d matched of %d landmarks, %d more than 2 px off\n", k,
                 r.tracked_features, r.landmarks, far_off);
     // Matching the stale landmarks first held 121 on the first image.
