@@ -24,7 +24,7 @@
 #include "hdvio/eval/alignment.h"
 #include "hdvio/io/asl.h"
 #include "hdvio/pipeline/visual_sequence_runner.h"
-#include "hdvio/run/visual_frontend_config.h"
+#include "hdvio/pipeline/visual_frontend_config_loader.h"
 #include "hdvio/sim/simulator.h"
 #include "feature_truth.h"
 #include "track_geometry.h"
@@ -60,7 +60,7 @@ Experiment loadExperiment(const std::string& path) {
   r.readInRange("seed", &seed, 0, 1 << 30);
   e.run.seed = static_cast<std::uint32_t>(seed);
   r.finish();
-  e.frontend = run::loadVisualFrontendConfig(cfg.optionalSection("frontend"));
+  e.frontend = loadVisualFrontendConfig(cfg.optionalSection("frontend"));
   if (e.frontend.source == ObservationSource::kTracks)
     throw InputError(path, 0, "frontend.source: tracks has no frontend to check; use images");
   e.frontend.source = ObservationSource::kImages;

@@ -33,8 +33,8 @@ namespace hdvio {
 namespace {
 namespace fs = std::filesystem;
 
-// The experiment's gate and filter options, read as hdvio_run reads them (apps/run
-// imo_config.cc: the sigmas of the attitude in degrees).
+// The experiment's gate and filter options, read as hdvio_run reads them (backend
+// imo_filter_section.cc: the sigmas of the attitude in degrees).
 InertialEstimatorOptions optionsOf(const ConfigReader& cfg, const CameraModel& camera, const Pose& T_BC) {
   InertialEstimatorOptions o;
   o.displacement = DisplacementUse::kNone;

@@ -13,7 +13,6 @@
 #include "hdvio/core/error.h"
 #include "hdvio/io/sequence_reader.h"
 #include "hdvio/pipeline/displacement_network_source.h"
-#include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
 
 namespace hdvio::run {

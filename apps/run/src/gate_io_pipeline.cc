@@ -9,13 +9,14 @@
 #include <memory>
 #include <optional>
 
+#include "hdvio/backend/imo/imo_filter_section.h"
 #include "hdvio/core/error.h"
 #include "hdvio/core/sequence.h"
 #include "hdvio/io/gate_corners.h"
+#include "hdvio/pipeline/displacement_network_loader.h"
 #include "hdvio/pipeline/displacement_network_source.h"
 #include "hdvio/learned/displacement_model.h"
 #include "hdvio/pipeline/inertial_sequence_runner.h"
-#include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
 #include "hdvio/run/progress.h"
 
@@ -34,8 +35,8 @@ class GateIoPipeline : public MethodPipeline {
     g.readInRange("corner_gate_probability", &gate_.corner_gate_probability, -1.0, 0.999999);
     g.readOptional("use_detections", &use_detections_);
     g.finish();
-    ImoFilterSection filter{&run_, init_gyro_bias_, init_accel_bias_};
-    readImoFilterSection(cfg.optionalSection("filter"), file.path, &filter);
+    imo::ImoFilterSection filter{&run_, init_gyro_bias_, init_accel_bias_};
+    imo::readImoFilterSection(cfg.optionalSection("filter"), file.path, &filter);
     init_gyro_bias_ = filter.init_gyro_bias;
     init_accel_bias_ = filter.init_accel_bias;
     release_first_window_sample_ = filter.release_first_window_sample;

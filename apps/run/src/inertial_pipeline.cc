@@ -10,12 +10,13 @@
 
 #include "hdvio/backend/imo/displacement_source.h"
 #include "hdvio/backend/imo/drag_model.h"
+#include "hdvio/backend/imo/imo_filter_section.h"
 #include "hdvio/core/error.h"
 #include "hdvio/core/sequence.h"
 #include "hdvio/learned/displacement_model.h"
+#include "hdvio/pipeline/displacement_network_loader.h"
 #include "hdvio/pipeline/displacement_network_source.h"
 #include "hdvio/pipeline/inertial_sequence_runner.h"
-#include "hdvio/run/imo_config.h"
 #include "hdvio/run/method_pipeline.h"
 #include "hdvio/run/progress.h"
 
@@ -26,8 +27,8 @@ class InertialPipeline : public MethodPipeline {
  public:
   InertialPipeline(const std::string& method, const ConfigReader& cfg, const ExperimentFile& file)
       : method_(method), file_(file) {
-    ImoFilterSection filter{&options_, init_gyro_bias_, init_accel_bias_};
-    readImoFilterSection(cfg.optionalSection("filter"), file.path, &filter);
+    imo::ImoFilterSection filter{&options_, init_gyro_bias_, init_accel_bias_};
+    imo::readImoFilterSection(cfg.optionalSection("filter"), file.path, &filter);
     init_gyro_bias_ = filter.init_gyro_bias;
     init_accel_bias_ = filter.init_accel_bias;
     release_first_window_sample_ = filter.release_first_window_sample;

@@ -13,7 +13,7 @@
 #include "hdvio/pipeline/visual_sequence_runner.h"
 #include "hdvio/run/method_pipeline.h"
 #include "hdvio/run/progress.h"
-#include "hdvio/run/visual_frontend_config.h"
+#include "hdvio/pipeline/visual_frontend_config_loader.h"
 
 namespace hdvio::run {
 namespace {

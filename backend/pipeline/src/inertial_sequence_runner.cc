@@ -1,8 +1,10 @@
 #include "hdvio/pipeline/inertial_sequence_runner.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
+#include "hdvio/core/error.h"
 #include "hdvio/core/thread_clock.h"
 
 namespace hdvio {
@@ -43,6 +45,21 @@ std::vector<imo::GateFrame> gateFrames(const io::GateData& data) {
     frames.back().corners.push_back({data.corners.at({d.gate_id, d.corner_id}), Vec2(d.u, d.v)});
   }
   return frames;
+}
+
+std::vector<ImuSample> imuSpanWithGroundTruth(const Sequence& seq, double start_offset_s,
+                                              double duration_s) {
+  if (seq.groundtruth.empty()) throw InputError(seq.source, 0, "the sequence has no ground truth");
+  const Timestamp t_gt = seq.groundtruth.front().t + fromSeconds(start_offset_s);
+  auto first = std::lower_bound(seq.imu.begin(), seq.imu.end(), t_gt,
+                                [](const ImuSample& s, Timestamp t) { return s.t < t; });
+  if (first == seq.imu.end() || first->t > seq.groundtruth.back().t)
+    throw InputError(seq.source, 0, "no IMU sample inside the ground-truth span");
+  auto last = seq.imu.end();
+  if (duration_s > 0.0)
+    last = std::upper_bound(first, seq.imu.end(), first->t + fromSeconds(duration_s),
+                            [](Timestamp t, const ImuSample& s) { return t < s.t; });
+  return std::vector<ImuSample>(first, last);
 }
 
 }  // namespace hdvio

@@ -23,6 +23,11 @@ imo::ImoRunOutput runInertialOnSequence(const Sequence& seq, const std::vector<T
                                         const DisplacementSourceFactory& source,
                                         const std::function<void(Timestamp)>& on_progress = {});
 
+// The IMU samples the inertial methods run on: from the first sample inside the ground truth
+// (+ start_offset_s), for duration_s (<= 0: to the end). InputError when no sample is inside.
+std::vector<ImuSample> imuSpanWithGroundTruth(const Sequence& seq, double start_offset_s,
+                                              double duration_s);
+
 // Detections grouped per frame (time order), each corner with its known world position.
 std::vector<imo::GateFrame> gateFrames(const io::GateData& data);
 

@@ -1,8 +1,8 @@
 #pragma once
 // What the visual estimator's image path needs to know: where the backend's landmark
 // observations come from and the semi-direct frontend's options plus the frontend-backend
-// handshake switches. hdvio_run reads it from the `frontend:` section (apps/run
-// visual_frontend_config.h); docs/visual_pipeline.md.
+// handshake switches. hdvio_run reads it from the `frontend:` section with
+// loadVisualFrontendConfig (visual_frontend_config_loader.h); docs/visual_pipeline.md.
 #include "hdvio/frontend/frontend_types.h"
 
 namespace hdvio {

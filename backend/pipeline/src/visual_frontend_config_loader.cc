@@ -1,10 +1,10 @@
-#include "hdvio/run/visual_frontend_config.h"
+#include "hdvio/pipeline/visual_frontend_config_loader.h"
 
 #include <string>
 
 #include "hdvio/core/error.h"
 
-namespace hdvio::run {
+namespace hdvio {
 namespace {
 
 void loadDetector(const ConfigReader& r, frontend::DetectorOptions* o) {
@@ -97,4 +97,4 @@ ObservationSource resolveObservationSource(ObservationSource configured, const S
   return configured;
 }
 
-}  // namespace hdvio::run
+}  // namespace hdvio

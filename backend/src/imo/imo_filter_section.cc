@@ -1,18 +1,18 @@
-#include "hdvio/run/imo_config.h"
+#include "hdvio/backend/imo/imo_filter_section.h"
 
-#include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <optional>
 
 #include "hdvio/core/error.h"
 
-namespace hdvio::run {
+namespace hdvio {
+
 Vec3 readVec3(const ConfigReader& r, const std::string& key, const Vec3& fallback) {
   std::vector<double> v{fallback.x(), fallback.y(), fallback.z()};
   r.readVector(key, &v, 3);
   return Vec3(v[0], v[1], v[2]);
 }
+
+namespace imo {
 
 void readImoFilterSection(const ConfigReader& f, const std::string& config_path,
                           ImoFilterSection* section) {
@@ -51,32 +51,5 @@ void readImoFilterSection(const ConfigReader& f, const std::string& config_path,
   f.finish();
 }
 
-std::shared_ptr<const learned::DisplacementModel> loadDisplacementNetwork(
-    const ConfigReader& network, const std::string& experiment_dir, std::string* weights_out) {
-  std::string weights;
-  network.read("weights", &weights);
-  network.finish();
-  if (weights_out) *weights_out = weights;
-  const std::filesystem::path w(weights);
-  const std::string path = w.is_absolute() || experiment_dir.empty()
-                               ? weights
-                               : (std::filesystem::path(experiment_dir) / w).string();
-  return std::make_shared<const learned::DisplacementModel>(learned::DisplacementModel::load(path));
-}
-
-std::vector<ImuSample> imuSpanWithGroundTruth(const Sequence& seq, double start_offset_s,
-                                              double duration_s) {
-  if (seq.groundtruth.empty()) throw InputError(seq.source, 0, "the sequence has no ground truth");
-  const Timestamp t_gt = seq.groundtruth.front().t + fromSeconds(start_offset_s);
-  auto first = std::lower_bound(seq.imu.begin(), seq.imu.end(), t_gt,
-                                [](const ImuSample& s, Timestamp t) { return s.t < t; });
-  if (first == seq.imu.end() || first->t > seq.groundtruth.back().t)
-    throw InputError(seq.source, 0, "no IMU sample inside the ground-truth span");
-  auto last = seq.imu.end();
-  if (duration_s > 0.0)
-    last = std::upper_bound(first, seq.imu.end(), first->t + fromSeconds(duration_s),
-                            [](Timestamp t, const ImuSample& s) { return t < s.t; });
-  return std::vector<ImuSample>(first, last);
-}
-
-}  // namespace hdvio::run
+}  // namespace imo
+}  // namespace hdvio
