@@ -24,6 +24,7 @@ SlidingWindowSmoother::UpdateResult SlidingWindowSmoother::update(
   if (run_optimizer) {
     const UpdateResult solved = optimize();
     result.usable = solved.usable;
+    result.converged = solved.converged;
     result.iterations = solved.iterations;
     result.final_cost = solved.final_cost;
     result.solve_time_s = solved.solve_time_s;
@@ -51,6 +52,7 @@ SlidingWindowSmoother::UpdateResult SlidingWindowSmoother::optimize() {
     trust_region_radius_ = std::clamp(solved.summary.iterations.back().trust_region_radius,
                                       options_.warm_start_min_radius, options_.warm_start_max_radius);
   result.usable = solved.usable;
+  result.converged = solved.summary.termination_type == ceres::CONVERGENCE;
   result.iterations = static_cast<int>(solved.summary.iterations.size());
   result.final_cost = solved.summary.final_cost;
   result.solve_time_s = solved.summary.total_time_in_seconds;
@@ -94,6 +96,17 @@ void SlidingWindowSmoother::removeVariables(const std::set<Key>& keys) {
   for (Key k : keys) {
     values_.erase(k);
     key_times_.erase(k);
+  }
+}
+
+void SlidingWindowSmoother::changeGauge(const GaugeTransform& gauge) {
+  gauge.apply(&values_);
+  for (auto& [id, f] : factors_) {
+    const auto* prior = dynamic_cast<const MarginalizationPrior*>(f.get());
+    if (!prior) continue;
+    Values x0 = prior->linearizationPoint();
+    gauge.apply(&x0);
+    f = prior->withLinearizationPoint(x0);
   }
 }
 

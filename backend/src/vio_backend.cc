@@ -163,11 +163,15 @@ FrameResult VioBackend::addFrame(const FrameObservations& frame) {
   states_.back().keyframe = isKeyframe(k);
   if (states_.back().keyframe) last_keyframe_ = k;
 
+  const std::uint64_t oldest = states_.front().index;
+  const Pose oldest_before = smoother_.estimate().pose(X(oldest));
   auto solved = smoother_.optimize();
   result.outliers_removed = rejectOutliers();
   if (result.outliers_removed > 0) solved = smoother_.optimize();
   result.solver_iterations = solved.iterations;
   result.solve_time_s = solved.solve_time_s;
+  result.solve_converged = solved.converged;
+  if (!solved.converged) holdGauge(oldest, oldest_before);
   const double window_start = threadCpuSeconds();
   maintainWindow();
   result.marginalization_cpu_s = threadCpuSeconds() - window_start;
@@ -295,6 +299,15 @@ int VioBackend::rejectOutliers() {
   }
   if (!dead_landmarks.empty()) smoother_.removeVariables(dead_landmarks);
   return removed;
+}
+
+void VioBackend::holdGauge(std::uint64_t index, const Pose& T_WB_before) {
+  // The window's position and yaw are unobservable: only the start's prior, carried on by the
+  // marginalizations and as weak as the drift is uncertain, holds them, so a solve stopped by its
+  // iteration budget can have moved the whole window along them. Undo the oldest state's move in
+  // position and yaw on the window and its priors together (docs/backend.md "The gauge"); the
+  // relative corrections and the tilts stay as solved.
+  smoother_.changeGauge(GaugeTransform::restoring(T_WB_before, smoother_.estimate().pose(X(index))));
 }
 
 void VioBackend::maintainWindow() {

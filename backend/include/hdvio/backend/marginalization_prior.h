@@ -24,6 +24,11 @@ class MarginalizationPrior : public Factor {
   const Eigen::MatrixXd& jacobian() const { return J0_; }
   const Eigen::VectorXd& residualAtLinearizationPoint() const { return r0_; }
   const Values& linearizationPoint() const { return x0_; }
+  // The same prior about another linearization point (a change of gauge moves it with the
+  // window, so the prior keeps saying what it said).
+  std::shared_ptr<MarginalizationPrior> withLinearizationPoint(const Values& x0) const {
+    return std::make_shared<MarginalizationPrior>(keys(), x0, J0_, r0_);
+  }
 
  private:
   class Cost;

@@ -7,6 +7,7 @@
 #include <set>
 #include <vector>
 
+#include "hdvio/backend/gauge_transform.h"
 #include "hdvio/backend/schur_marginalization.h"
 #include "hdvio/core/ceres_bridge.h"
 #include "hdvio/core/time.h"
@@ -33,6 +34,7 @@ class SlidingWindowSmoother {
     std::vector<FactorId> new_factor_ids;  // ids of the new factors, in order
     std::set<Key> marginalized;            // keys removed by the lag rule
     bool usable = true;                    // false if the solver failed (estimate unchanged)
+    bool converged = true;                 // false if it stopped at its iteration budget
     int iterations = 0;
     double final_cost = 0.0;
     double solve_time_s = 0.0;
@@ -52,6 +54,9 @@ class SlidingWindowSmoother {
   void removeFactors(const std::vector<FactorId>& ids);
   // Drops variables and every factor touching them (e.g. a rejected landmark).
   void removeVariables(const std::set<Key>& keys);
+  // A change of gauge: the estimate and the marginalization priors' linearization points move
+  // together (gauge_transform.h).
+  void changeGauge(const GaugeTransform& gauge);
 
   const Values& estimate() const { return values_; }
   Values& mutableEstimate() { return values_; }  // for re-initialization by the backend

@@ -27,6 +27,7 @@ struct FrameResult {
   int landmarks_in_window = 0;
   int outliers_removed = 0;
   int solver_iterations = 0;
+  bool solve_converged = true;  // false: the last solve stopped at max_iterations
   double solve_time_s = 0.0;
   double cpu_time_s = 0.0;           // this thread's CPU time in addFrame (whole update)
   double marginalization_cpu_s = 0.0;  // part of cpu_time_s spent in window maintenance
@@ -87,6 +88,7 @@ class VioBackend {
   // The reprojection factor of one observation.
   FactorPtr reprojectionFactor(std::uint64_t index, const FeatureObservation& obs) const;
   int rejectOutliers();
+  void holdGauge(std::uint64_t index, const Pose& T_WB_before);
   void maintainWindow();
   void marginalizeState(std::uint64_t index, bool keep_landmark_information);
   Pose cameraPose(std::uint64_t index) const;
