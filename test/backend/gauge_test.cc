@@ -1,6 +1,6 @@
 // After marginalization, the prior of a visual-inertial window must not carry information
-// along the four unobservable directions (global translation and yaw about gravity); so the
-// window holds its gauge itself, at its oldest state.
+// along the four unobservable directions (global translation and yaw about gravity); so after a
+// solve stopped by its iteration budget the window holds its gauge itself, at its oldest state.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -133,7 +133,6 @@ TEST(VioGauge, MarginalizationKeepsTranslationAndYawUnobservable) {
   one.head<3>() = Vec3::UnitX();
   EXPECT_GT(one.dot(Hp * one), 1.0);
 }
-
 
 // The rotation from a to b about world z (the z part of the world-frame rotation vector): the
 // yaw a change of gauge holds.
