@@ -1,6 +1,8 @@
 // hdvio's dynamics model: thrust plus the learned residual force and the drag law, with the
 // external force a random walk from F_i to F_j (HdvioDynamicsFactor), optionally adapted to
 // the accelerometer's evidence (adaptive_force_walk.h).
+#include <algorithm>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -39,6 +41,12 @@ class HdvioDynamics final : public ForceDynamics {
       const Vec3 f_W = Ri * (pit->correctedGamma(s.bias) - drag.beta) / iv.dt;
       params.force_random_walk = force_walk_->update(f_W, iv.dt);
     }
+    // Outside what the model was trained on its measured error says nothing: the walk grows with
+    // the distance beyond the envelope, to force_walk_outside_model at twice a bound.
+    const double excess = modelEnvelopeExcess(iv, in);
+    if (excess > 0.0)
+      params.force_random_walk =
+          std::max(params.force_random_walk, std::min(1.0, excess) * options().force_walk_outside_model);
     graph->add(std::make_shared<HdvioDynamicsFactor>(X(iv.i), V(iv.i), F(iv.i), X(iv.j), V(iv.j),
                                                      F(iv.j), B(iv.i), pit, params));
   }
@@ -66,6 +74,30 @@ class HdvioDynamics final : public ForceDynamics {
   }
 
  private:
+  // How far the interval leaves where the model was trained (ModelEnvelope::excess, 0 inside):
+  // speed at both ends (the estimate at i, the IMU's prediction at j), every gyro and thrust
+  // sample inside it.
+  double modelEnvelopeExcess(const StateInterval& iv, const InertialBuffers& in) const {
+    const ModelEnvelope& e = options().model_envelope;
+    if (e.unbounded()) return 0.0;
+    const double speed = std::max(iv.state_i.v_W.norm(), iv.v_j.norm());
+    double rate = 0.0;
+    const Vec3 gyro_bias = iv.state_i.bias.head<3>();
+    for (auto it = std::lower_bound(in.imu.begin(), in.imu.end(), iv.t_i,
+                                    [](const ImuSample& s, Timestamp t) { return s.t < t; });
+         it != in.imu.end() && it->t <= iv.t_j; ++it)
+      rate = std::max(rate, (it->gyro - gyro_bias).norm());
+    double thrust_lo = std::numeric_limits<double>::infinity(), thrust_hi = 0.0;
+    for (auto it = std::lower_bound(in.thrust.begin(), in.thrust.end(), iv.t_i,
+                                    [](const ThrustSample& s, Timestamp t) { return s.t < t; });
+         it != in.thrust.end() && it->t <= iv.t_j; ++it) {
+      thrust_lo = std::min(thrust_lo, it->thrust.norm());
+      thrust_hi = std::max(thrust_hi, it->thrust.norm());
+    }
+    if (thrust_hi < thrust_lo) thrust_lo = thrust_hi = e.thrust_min;  // no sample inside
+    return std::max(e.excess(speed, rate, thrust_lo), e.excess(speed, rate, thrust_hi));
+  }
+
   // The learned force over [t_i, t_j] at the gyro bias of s; zero without a provider.
   ResidualForceFn residualForce(Timestamp t_i, Timestamp t_j, const NavState& s) const {
     return residual_force_ ? residual_force_(t_i, t_j, s.bias.head<3>()) : ResidualForceFn();

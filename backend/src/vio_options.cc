@@ -39,6 +39,22 @@ void readVec3(const ConfigReader& c, const std::string& key, Vec3* v, bool posit
 }  // namespace
 
 namespace {
+// The envelope keys bound nothing unless given (or adopted from the model's weight file).
+void readModelEnvelope(const ConfigReader& c, ModelEnvelope* e) {
+  if (c.has("model_speed_max")) c.readInRange("model_speed_max", &e->speed_max, 1e-3, 1e3);
+  if (c.has("model_rate_max")) c.readInRange("model_rate_max", &e->rate_max, 1e-3, 1e3);
+  if (c.has("model_thrust_range")) {
+    std::vector<double> range;
+    c.readVector("model_thrust_range", &range, 2);
+    if (!(range[0] >= 0.0 && range[1] > range[0]))
+      throw InputError(c.file(), 0,
+                       "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +
+                           "model_thrust_range': needs 0 <= min < max");
+    e->thrust_min = range[0];
+    e->thrust_max = range[1];
+  }
+}
+
 void finalize(VioBackendOptions* o) {
   o->thrust.gyro_noise_density = o->imu.gyro_noise_density;
   o->thrust.gyro_random_walk = o->imu.gyro_random_walk;
@@ -107,6 +123,8 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
     throw InputError(c.file(), 0,
                      "key '" + (c.path().empty() ? std::string("") : c.path() + ".") +
                          "force_walk_max': must be >= force_random_walk");
+  readModelEnvelope(c, &o.model_envelope);
+  c.readInRange("force_walk_outside_model", &o.force_walk_outside_model, 1e-6, 1e3);
   readVec3(c, "drag_linear", &o.dynamics.drag.linear, false);
   readVec3(c, "drag_quadratic", &o.dynamics.drag.quadratic, false);
   readVec3(c, "drag_rotor", &o.dynamics.drag.rotor, false);
@@ -150,6 +168,23 @@ void adoptModelForceWalk(double walk, const ConfigReader& section, VioBackendOpt
     section.recordEffective("force_walk_max", walk);
   }
   finalize(o);
+}
+
+void adoptModelEnvelope(const ModelEnvelope& model, const ConfigReader& section, VioBackendOptions* o) {
+  ModelEnvelope& e = o->model_envelope;
+  if (!section.has("model_speed_max") && std::isfinite(model.speed_max)) {
+    e.speed_max = model.speed_max;
+    section.recordEffective("model_speed_max", model.speed_max);
+  }
+  if (!section.has("model_rate_max") && std::isfinite(model.rate_max)) {
+    e.rate_max = model.rate_max;
+    section.recordEffective("model_rate_max", model.rate_max);
+  }
+  if (!section.has("model_thrust_range") && std::isfinite(model.thrust_max)) {
+    e.thrust_min = model.thrust_min;
+    e.thrust_max = model.thrust_max;
+    section.recordEffective("model_thrust_range", std::vector<double>{model.thrust_min, model.thrust_max});
+  }
 }
 
 }  // namespace hdvio

@@ -283,6 +283,11 @@ void ConfigReader::recordEffective(const std::string& key, double value) const {
   eff[key] = toYaml(value);
 }
 
+void ConfigReader::recordEffective(const std::string& key, const std::vector<double>& value) const {
+  YAML::Node eff = effective_;
+  eff[key] = toYaml(value);
+}
+
 std::string ConfigReader::effectiveYaml() const {
   YAML::Emitter out;
   out << state_->effective_root;

@@ -9,8 +9,13 @@
 
 namespace hdvio::learned {
 
-ResidualForceModel::ResidualForceModel(Tcn tcn, double default_sigma, DragLaw drag_law, double force_walk)
-    : tcn_(std::move(tcn)), default_sigma_(default_sigma), drag_law_(std::move(drag_law)), force_walk_(force_walk) {
+ResidualForceModel::ResidualForceModel(Tcn tcn, double default_sigma, DragLaw drag_law, double force_walk,
+                                       ModelEnvelope envelope)
+    : tcn_(std::move(tcn)),
+      default_sigma_(default_sigma),
+      drag_law_(std::move(drag_law)),
+      force_walk_(force_walk),
+      envelope_(envelope) {
   if (!(default_sigma >= 0.0) || !std::isfinite(default_sigma)) {
     throw std::invalid_argument("default_sigma must be finite and non-negative");
   }
@@ -26,7 +31,8 @@ std::shared_ptr<const ResidualForceModel> ResidualForceModel::load(const std::st
     throw InputError(path, 0, "not a residual-force network (task '" + file.info.task + "')");
   }
   return std::make_shared<const ResidualForceModel>(std::move(file.tcn), default_sigma,
-                                                    file.info.drag_law, file.info.force_walk);
+                                                    file.info.drag_law, file.info.force_walk,
+                                                    file.info.envelope);
 }
 
 ResidualForcePrediction ResidualForceModel::predict(const std::vector<DynamicsInput>& window) const {

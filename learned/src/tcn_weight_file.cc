@@ -23,6 +23,7 @@ constexpr int kFormatVersion3 = 3;  // version 2 + the drag law the force networ
 constexpr int kFormatVersion4 = 4;  // version 3 + sample_times, block_relu, window_padding
 constexpr int kFormatVersion5 = 5;  // version 4 + force_walk
 constexpr int kFormatVersion6 = 6;  // version 5 + supervision
+constexpr int kFormatVersion7 = 7;  // version 6 + training envelope
 
 // Walks the meaningful lines of the file, splitting each into whitespace tokens.
 class LineCursor {
@@ -248,7 +249,7 @@ std::string word(LineCursor& c, const std::string& key, const std::vector<std::s
 }
 
 TcnFileInfo readInfo(LineCursor& c, bool with_drag_law, bool with_sample_times, bool with_force_walk,
-                     bool with_supervision) {
+                     bool with_supervision, bool with_envelope) {
   TcnFileInfo info;
   info.task = word(c, "task", {"force", "displacement"});
   info.inputs = word(c, "inputs", {"thrust_gyro", "accel_gyro"});
@@ -294,6 +295,19 @@ TcnFileInfo readInfo(LineCursor& c, bool with_drag_law, bool with_sample_times, 
     if (info.force_walk < 0.0) c.fail("force_walk must be non-negative");
   }
   if (with_supervision) info.supervision = word(c, "supervision", {"groundtruth", "estimate"});
+  if (with_envelope) {
+    const std::string form = "envelope <speed_max> <rate_max> <thrust_min> <thrust_max>";
+    c.expectNext(form);
+    if (c.tokens()[0] != "envelope") c.fail("expected \"" + form + "\"");
+    c.expectTokens(5, form);
+    ModelEnvelope& e = info.envelope;
+    e.speed_max = c.real(1);
+    e.rate_max = c.real(2);
+    e.thrust_min = c.real(3);
+    e.thrust_max = c.real(4);
+    if (!(e.speed_max > 0.0 && e.rate_max > 0.0 && e.thrust_min >= 0.0 && e.thrust_max > e.thrust_min))
+      c.fail("envelope needs positive speed_max and rate_max and 0 <= thrust_min < thrust_max");
+  }
   return info;
 }
 
@@ -364,7 +378,7 @@ TcnFile parseTcnFile(const std::string& text, const std::string& name) {
   if (c.tokens()[0] != kFormatName) c.fail("not an hdvio TCN weight file (no \"hdvio_tcn\" header)");
   c.expectTokens(2, "hdvio_tcn <version>");
   const long version = c.integer(1, 0, 1000);
-  if (version < kFormatVersion || version > kFormatVersion6) {
+  if (version < kFormatVersion || version > kFormatVersion7) {
     c.fail("unsupported format version " + c.tokens()[1]);
   }
   const bool v2 = version >= kFormatVersion2;  // the version-2 layout (3 adds the drag law)
@@ -372,7 +386,7 @@ TcnFile parseTcnFile(const std::string& text, const std::string& name) {
   const bool v4 = version >= kFormatVersion4;
   if (v2)
     info = readInfo(c, version >= kFormatVersion3, v4, version >= kFormatVersion5,
-                    version >= kFormatVersion6);
+                    version >= kFormatVersion6, version >= kFormatVersion7);
 
   TcnArchitecture a;
   a.input_channels = static_cast<int>(keyValue(c, "input_channels", 1, 4096));
@@ -449,12 +463,13 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
   const TcnArchitecture& a = tcn.architecture();
   std::ostringstream os;
   // The oldest version that can hold what is written (older readers keep working).
-  const bool v6 = info && info->supervision != "groundtruth";
+  const bool v7 = info && !info->envelope.unbounded();
+  const bool v6 = v7 || (info && info->supervision != "groundtruth");
   const bool v5 = v6 || (info && info->force_walk > 0.0);
   const bool v4 = v5 || (info && (a.block_relu || a.window_padding || info->sample_times != "end"));
   const bool with_drag_law = info && (info->drag_law.enabled() || v4);
   os << kFormatName << ' '
-     << (v6 ? kFormatVersion6 : v5 ? kFormatVersion5 : v4 ? kFormatVersion4 : with_drag_law ? kFormatVersion3 : info ? kFormatVersion2 : kFormatVersion)
+     << (v7 ? kFormatVersion7 : v6 ? kFormatVersion6 : v5 ? kFormatVersion5 : v4 ? kFormatVersion4 : with_drag_law ? kFormatVersion3 : info ? kFormatVersion2 : kFormatVersion)
      << '\n';
   std::istringstream lines(comment);
   for (std::string line; std::getline(lines, line);) os << "# " << line << '\n';
@@ -491,6 +506,15 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
       os << "force_walk " << buf << '\n';
     }
     if (v6) os << "supervision " << info->supervision << '\n';
+    if (v7) {
+      const ModelEnvelope& e = info->envelope;
+      os << "envelope";
+      for (double v : {e.speed_max, e.rate_max, e.thrust_min, e.thrust_max}) {
+        std::snprintf(buf, sizeof(buf), "%.9g", v);
+        os << ' ' << buf;
+      }
+      os << '\n';
+    }
   }
   char rate[32];
   std::snprintf(rate, sizeof(rate), "%.17g", a.sample_rate_hz);

@@ -1,7 +1,10 @@
 // The backend's options: the IMU noise of the sequence's calibration where the experiment is silent.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "hdvio/backend/vio_options.h"
+#include "hdvio/core/error.h"
 
 namespace hdvio {
 namespace {
@@ -52,6 +55,36 @@ TEST(VioOptions, TheModelsErrorWalkIsTheLeastForceWalk) {
   EXPECT_EQ(eff["force_walk_max"].as<double>(), 0.21);
   adoptModelForceWalk(0.1, backend, &o);  // below the floor: no change
   EXPECT_EQ(o.dynamics.force_random_walk, 0.21);
+}
+
+// The model's training envelope bounds what the experiment does not bound itself.
+TEST(VioOptions, TheModelsEnvelopeFillsTheBoundsTheExperimentLeaves) {
+  const ConfigReader cfg = ConfigReader::fromString("backend: {model_rate_max: 2.5}\n");
+  const ConfigReader backend = cfg.section("backend");
+  VioBackendOptions o = loadVioBackendOptions(backend, VioMethod::kHdvio);
+  EXPECT_TRUE(std::isinf(o.model_envelope.speed_max));
+  EXPECT_EQ(o.model_envelope.rate_max, 2.5);
+  ModelEnvelope model;
+  model.speed_max = 9.0;
+  model.rate_max = 1.3;
+  model.thrust_min = 8.9;
+  model.thrust_max = 13.4;
+  adoptModelEnvelope(model, backend, &o);
+  EXPECT_EQ(o.model_envelope.speed_max, 9.0);
+  EXPECT_EQ(o.model_envelope.rate_max, 2.5);  // the experiment's
+  EXPECT_EQ(o.model_envelope.thrust_min, 8.9);
+  EXPECT_EQ(o.model_envelope.thrust_max, 13.4);
+  const YAML::Node eff = YAML::Load(cfg.effectiveYaml())["backend"];
+  EXPECT_EQ(eff["model_speed_max"].as<double>(), 9.0);
+  EXPECT_EQ(eff["model_rate_max"].as<double>(), 2.5);
+  EXPECT_EQ(eff["model_thrust_range"][0].as<double>(), 8.9);
+  const ConfigReader bad = ConfigReader::fromString("backend: {model_thrust_range: [12, 9]}\n", "b.yaml");
+  try {
+    loadVioBackendOptions(bad.section("backend"), VioMethod::kHdvio);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("model_thrust_range': needs 0 <= min < max"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -233,6 +233,39 @@ TEST(ForceWeightFile, Version6RecordsSupervisionByAnEstimate) {
   expectFailure(replaced(text, "supervision estimate\n", ""), 8, "supervision");
 }
 
+// Version 7: what the training samples held reaches the model (and the estimator).
+TEST(ForceWeightFile, Version7CarriesTheTrainingEnvelope) {
+  const Tcn tcn = testing::deterministicTcn();
+  TcnFileInfo info;
+  info.drag_law.linear = Vec3(0.3, 0.3, 0.0);
+  info.force_walk = 0.21;
+  info.envelope.speed_max = 9.16;
+  info.envelope.rate_max = 1.35;
+  info.envelope.thrust_min = 8.97;
+  info.envelope.thrust_max = 13.4;
+  const std::string text = formatTcnFile(tcn, info);
+  EXPECT_EQ(text.rfind("hdvio_tcn 7\n", 0), 0u);
+  EXPECT_NE(text.find("\nsupervision groundtruth\nenvelope 9.16 1.35 8.97 13.4\n"), std::string::npos)
+      << text.substr(0, 300);
+  const std::string path = tempPath("v7.tcn");
+  saveTcnFile(tcn, info, path);
+  const ModelEnvelope back = ResidualForceModel::load(path, 0.3)->envelope();
+  std::remove(path.c_str());
+  EXPECT_EQ(back.speed_max, 9.16);
+  EXPECT_EQ(back.rate_max, 1.35);
+  EXPECT_EQ(back.thrust_min, 8.97);
+  EXPECT_EQ(back.thrust_max, 13.4);
+  // Without one the file stays version 5 and reads as unbounded.
+  info.envelope = ModelEnvelope();
+  const std::string v5 = formatTcnFile(tcn, info);
+  EXPECT_EQ(v5.rfind("hdvio_tcn 5\n", 0), 0u);
+  EXPECT_TRUE(parseTcnFile(v5, "v5.tcn").info.envelope.unbounded());
+  expectFailure(replaced(text, "envelope 9.16 1.35 8.97 13.4", "envelope 9.16 1.35 13.4 8.97"), 9,
+                "envelope needs positive speed_max");
+  expectFailure(replaced(text, "envelope 9.16 1.35 8.97 13.4", "envelope 9.16 1.35"), 9, "envelope <speed_max>");
+  expectFailure(replaced(text, "envelope 9.16 1.35 8.97 13.4\n", ""), 9, "envelope");
+}
+
 TEST(DisplacementModel, LoadChecksTaskAndSigma) {
   const std::string path = tempPath("model.tcn");
   saveTcnFile(testing::deterministicResidualTcn(), displacementInfo("accel_gyro"), path, "", TcnEncoding::kFloat32);

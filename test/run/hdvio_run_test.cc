@@ -416,6 +416,52 @@ TEST_F(HdvioRun, WeightFileWalkRaisesTheForceWalk) {
             0.02);
 }
 
+// A weight file that states its training envelope (version 7): inside it the run is the run
+// without one, byte for byte; a flight outside it gets the loose walk (the estimate moves), and
+// config.yaml says what ran.
+TEST_F(HdvioRun, FlightOutsideTheModelsEnvelopeLoosensTheForceWalk) {
+  learned::TcnFileInfo info;
+  info.drag_law.linear = Vec3(0.3, 0.3, 0.05);
+  const auto weights = [&](const std::string& name, double speed_max) {
+    info.envelope.speed_max = speed_max;
+    info.envelope.rate_max = 100.0;
+    info.envelope.thrust_min = 0.0;
+    info.envelope.thrust_max = 100.0;
+    const std::string path = (dir_ / name).string();
+    learned::saveTcnFile(learned::testing::deterministicTcn(), info, path, "hdvio_run test");
+    return path;
+  };
+  const std::string none = (dir_ / "env_none.tcn").string();
+  learned::saveTcnFile(learned::testing::deterministicTcn(), info, none, "hdvio_run test");  // no envelope
+  const auto estimate = [&](const std::string& name, const std::string& path) {
+    const std::string config = writeConfig(
+        name + ".yaml", "method: hdvio\nbackend: {force_random_walk: 0.02}\n"
+                        "residual_force: {type: tcn, weights: " + path + "}\n"
+                        "run: {init_from_groundtruth: true}\n");
+    const Outcome o = run("--config " + config + " --dataset " + (dir_ / "seq").string() + " --out " +
+                          (dir_ / ("o_" + name)).string() + " --evaluate=false");
+    EXPECT_EQ(o.exit_code, 0) << o.output;
+    return readForceCsv(dir_ / ("o_" + name) / "stamped_force_estimate.csv");
+  };
+  const auto plain = estimate("e_none", none);
+  const auto inside = estimate("e_inside", weights("env_wide.tcn", 100.0));
+  const auto outside = estimate("e_outside", weights("env_slow.tcn", 0.05));
+  ASSERT_GT(plain.size(), 40u);
+  ASSERT_EQ(plain.size(), inside.size());
+  ASSERT_EQ(plain.size(), outside.size());
+  double moved = 0.0;
+  for (std::size_t k = 0; k < plain.size(); ++k) {
+    EXPECT_EQ(inside[k].second, plain[k].second) << k;
+    moved = std::max(moved, (outside[k].second - plain[k].second).norm());
+  }
+  EXPECT_GT(moved, 1e-3);
+  const YAML::Node ran = YAML::LoadFile((dir_ / "o_e_outside" / "config.yaml").string())["backend"];
+  EXPECT_EQ(ran["model_speed_max"].as<double>(), 0.05);
+  EXPECT_EQ(ran["model_thrust_range"][1].as<double>(), 100.0);
+  EXPECT_EQ(ran["force_walk_outside_model"].as<double>(), 5.0);
+  EXPECT_FALSE(YAML::LoadFile((dir_ / "o_e_none" / "config.yaml").string())["backend"]["model_speed_max"]);
+}
+
 TEST_F(HdvioRun, BadExperimentsAndMissingSensorsAreClearErrors) {
   const std::string seq = (dir_ / "seq").string();
   const std::string typo = writeConfig("typo.yaml", "method: vio\nbackend:\n  num_keyframe: 10\n");

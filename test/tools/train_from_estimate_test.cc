@@ -50,8 +50,8 @@ TEST(TrainFromEstimate, VioEstimateTrainsAModelHdvioRunsWith) {
       " --out " + (dir / "model.tcn").string());
   ASSERT_EQ(train.exit_code, 0) << train.output;
   const std::string model = text(dir / "model.tcn");
-  EXPECT_EQ(model.rfind("hdvio_tcn 6\n", 0), 0u) << model.substr(0, 200);
-  EXPECT_NE(model.find("\nsupervision estimate\n"), std::string::npos);
+  EXPECT_EQ(model.rfind("hdvio_tcn 7\n", 0), 0u) << model.substr(0, 200);
+  EXPECT_NE(model.find("\nsupervision estimate\nenvelope "), std::string::npos);
   EXPECT_NE(model.find("# supervision of " + seq.string() + ": the estimate in " + (dir / "vio").string()),
             std::string::npos);
 
@@ -63,6 +63,8 @@ TEST(TrainFromEstimate, VioEstimateTrainsAModelHdvioRunsWith) {
       seq.string() + " --evaluate=false --out " + (dir / "hdvio").string());
   ASSERT_EQ(hdvio.exit_code, 0) << hdvio.output;
   EXPECT_TRUE(fs::exists(dir / "hdvio" / "stamped_traj_estimate.txt"));
+  // The model's training envelope reached the run.
+  EXPECT_NE(text(dir / "hdvio" / "config.yaml").find("model_speed_max: "), std::string::npos);
 
   // A result folder without velocities: one error naming the file, no weight file.
   fs::remove(dir / "vio" / "stamped_velocity_estimate.csv");

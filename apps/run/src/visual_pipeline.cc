@@ -62,6 +62,7 @@ class VisualPipeline : public MethodPipeline {
         provider_ = learned::makeResidualForceProvider(rf, file.dir);
         adoptDragLaw(provider_->dragLaw(), file.path);
         adoptModelForceWalk(provider_->forceWalk(), backend_cfg_, &options_);
+        adoptModelEnvelope(provider_->envelope(), backend_cfg_, &options_);
       }
     }
   }

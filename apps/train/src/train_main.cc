@@ -16,6 +16,7 @@
 #include "hdvio/core/tool_main.h"
 #include "hdvio/learned/flight_folds.h"
 #include "hdvio/learned/force_model_error.h"
+#include "hdvio/learned/training_envelope.h"
 #include "hdvio/learned/tcn_weight_file.h"
 #include "hdvio/learned/thrust_identification.h"
 #include "hdvio/learned/torch/reproducible_kernels.h"
@@ -283,15 +284,16 @@ int main(int argc, char** argv) {
       std::printf("model error walk: no measured force on the validation part, none written\n");
     else
       std::printf("model error walk on the validation part: %.4g m/s^2/sqrt(s)\n", walk);
-    if (drag.enabled() || walk > 0.0 || from_estimates) {  // 3: the law, 5: the walk, 6: supervision
-      learned::TcnFileInfo info;
-      info.drag_law = drag;
-      info.force_walk = walk;
-      info.supervision = from_estimates ? "estimate" : "groundtruth";
-      saveTcnFile(result.best, info, FLAGS_out, comment);
-    } else {
-      saveTcnWeights(result.best, FLAGS_out, comment);
-    }
+    // And where that walk holds: the speeds, rates and thrusts the training part held.
+    const ModelEnvelope envelope = learned::trainingEnvelope(train_flights);
+    std::printf("training envelope: speed <= %.3g m/s, rate <= %.3g rad/s, thrust %.3g-%.3g m/s^2\n",
+                envelope.speed_max, envelope.rate_max, envelope.thrust_min, envelope.thrust_max);
+    learned::TcnFileInfo info;  // version 7
+    info.drag_law = drag;
+    info.force_walk = walk;
+    info.supervision = from_estimates ? "estimate" : "groundtruth";
+    info.envelope = envelope;
+    saveTcnFile(result.best, info, FLAGS_out, comment);
     std::cout << "wrote " << FLAGS_out << "\n";
     return 0;
   }, ToolErrorPolicy{true, "training failed: "});

@@ -7,6 +7,7 @@
 
 #include "hdvio/backend/adaptive_force_walk.h"
 #include "hdvio/core/config.h"
+#include "hdvio/core/model_envelope.h"
 #include "hdvio/core/sequence.h"
 #include "hdvio/factors/point_mass_dynamics.h"
 #include "hdvio/factors/imu_preintegration.h"
@@ -73,6 +74,12 @@ struct VioBackendOptions {
   // hdvio: adapt the force walk to the accelerometer's evidence (adaptive_force_walk.h);
   // dynamics.force_random_walk is then its floor.
   AdaptiveForceWalkOptions force_walk_adaptive;
+  // hdvio: what the residual-force model saw in training (its weight file's envelope, or the
+  // model_* keys). The model's measured error walk holds only where it was measured: a dynamics
+  // interval outside gets a walk of at least force_walk_outside_model times its relative
+  // distance beyond the envelope (all of it from twice a bound on).
+  ModelEnvelope model_envelope;
+  double force_walk_outside_model = 5.0;  // m/s^2/sqrt(s)
 
   // Initial state uncertainty (gauge and biases).
   double init_position_sigma = 1e-3;
@@ -105,6 +112,10 @@ void adoptImuNoise(const ImuCalibration& calibration, const ConfigReader& sectio
 // is recorded in the section's effective configuration. The model's uncertainty so reaches
 // the dynamics factor whatever the experiment says.
 void adoptModelForceWalk(double walk, const ConfigReader& section, VioBackendOptions* o);
+// What the residual-force model saw in training (its weight file's envelope): each bound the
+// backend section does not set (model_speed_max, model_rate_max, model_thrust_range) is
+// adopted and recorded in the section's effective configuration.
+void adoptModelEnvelope(const ModelEnvelope& model, const ConfigReader& section, VioBackendOptions* o);
 // Defaults for a method (no config).
 VioBackendOptions defaultVioBackendOptions(VioMethod method);
 

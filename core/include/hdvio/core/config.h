@@ -60,6 +60,7 @@ class ConfigReader {
   // Replaces a key's value in the effective configuration: for a default a program decides
   // from the data (e.g. the IMU noise of a dataset's sensor.yaml), so the file says what ran.
   void recordEffective(const std::string& key, double value) const;
+  void recordEffective(const std::string& key, const std::vector<double>& value) const;
   std::string effectiveYaml() const;
   const std::string& file() const;
   const std::string& path() const { return path_; }  // key path of this map, e.g. "sim.wind"

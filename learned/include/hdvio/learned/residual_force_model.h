@@ -8,6 +8,7 @@
 
 #include "hdvio/core/drag_law.h"
 #include "hdvio/core/lie.h"
+#include "hdvio/core/model_envelope.h"
 #include "hdvio/core/time.h"
 #include "hdvio/learned/tcn.h"
 
@@ -30,7 +31,8 @@ class ResidualForceModel {
  public:
   // Without a variance head, every prediction gets covariance default_sigma^2 * I. drag_law:
   // the law the network was trained to complement (weight file version 3), none by default.
-  ResidualForceModel(Tcn tcn, double default_sigma, DragLaw drag_law = {}, double force_walk = 0.0);
+  ResidualForceModel(Tcn tcn, double default_sigma, DragLaw drag_law = {}, double force_walk = 0.0,
+                     ModelEnvelope envelope = {});
   // Loads a weight file (tcn_weight_file.h); throws InputError on a bad file.
   static std::shared_ptr<const ResidualForceModel> load(const std::string& path,
                                                         double default_sigma);
@@ -41,6 +43,8 @@ class ResidualForceModel {
   // Random walk (m/s^2/sqrt(s)) of the model's error on held-out flights (force_model_error.h):
   // the least the estimator's external-force walk may be; 0 when the file does not say.
   double forceWalk() const { return force_walk_; }
+  // What its training samples held (weight file version 7); unbounded when the file does not say.
+  const ModelEnvelope& envelope() const { return envelope_; }
   int window() const { return tcn_.architecture().window; }
   double sampleRateHz() const { return tcn_.architecture().sample_rate_hz; }
   double windowSeconds() const { return (window() - 1) / sampleRateHz(); }
@@ -61,6 +65,7 @@ class ResidualForceModel {
   double default_sigma_;
   DragLaw drag_law_;
   double force_walk_ = 0.0;
+  ModelEnvelope envelope_;
 };
 
 // Time-ordered interpolation used by windowEndingAt (exposed for tests and tools).

@@ -38,6 +38,8 @@ class ResidualForceProvider {
   // The least random walk (m/s^2/sqrt(s)) of the external force the model's error needs
   // (ResidualForceModel::forceWalk); 0 by default.
   virtual double forceWalk() const { return 0.0; }
+  // What the model saw in training (ResidualForceModel::envelope); unbounded by default.
+  virtual ModelEnvelope envelope() const { return {}; }
 };
 
 // VIMO: no learned force; zero force with zero covariance.
@@ -62,6 +64,7 @@ class TcnResidualForceProvider final : public ResidualForceProvider {
   const ResidualForceModel& model() const { return *model_; }
   DragLaw dragLaw() const override { return model_->dragLaw(); }
   double forceWalk() const override { return model_->forceWalk(); }
+  ModelEnvelope envelope() const override { return model_->envelope(); }
 
  private:
   std::shared_ptr<const ResidualForceModel> model_;

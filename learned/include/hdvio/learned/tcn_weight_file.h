@@ -43,6 +43,10 @@
 // hdvio_train's data.train_estimates) is version 5 with "supervision groundtruth|estimate" after
 // force_walk; written only for "estimate".
 //
+// Version 7 (a force network that states what its training samples held, core/model_envelope.h)
+// is version 6 (supervision line always present) with "envelope <speed_max m/s> <rate_max rad/s>
+// <thrust_min> <thrust_max m/s^2>" after supervision; written only when the info has one.
+//
 // Blank lines and lines starting with '#' are ignored. Any other deviation (missing or extra
 // tensor, wrong shape, unparsable or non-finite number, data after "end") is an InputError
 // naming the file and the line.
@@ -50,6 +54,7 @@
 #include <vector>
 
 #include "hdvio/core/drag_law.h"
+#include "hdvio/core/model_envelope.h"
 #include "hdvio/learned/tcn.h"
 
 namespace hdvio::learned {
@@ -63,6 +68,7 @@ struct TcnFileInfo {
   std::string sample_times = "end";    // "end" | "begin": displacement window sample times
   double force_walk = 0.0;             // force networks: random walk of their error (0: unknown)
   std::string supervision = "groundtruth";  // "groundtruth" | "estimate": the training targets
+  ModelEnvelope envelope;  // force networks: what training held (unbounded: not stated)
 };
 
 enum class TcnEncoding { kText, kFloat32 };
@@ -72,11 +78,11 @@ struct TcnFile {
   TcnFileInfo info;
 };
 
-// Versions 1 to 6. Version 1 files get the default info.
+// Versions 1 to 7. Version 1 files get the default info.
 TcnFile loadTcnFile(const std::string& path);
 TcnFile parseTcnFile(const std::string& text, const std::string& name);
 // Version 2, 3 when info holds a drag law, 4 with a version-4 field, 5 with a force walk, 6 for
-// a network supervised by an estimate.
+// a network supervised by an estimate, 7 with a training envelope.
 std::string formatTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& comment = "",
                           TcnEncoding encoding = TcnEncoding::kText);
 void saveTcnFile(const Tcn& tcn, const TcnFileInfo& info, const std::string& path,
