@@ -27,6 +27,8 @@
 namespace hdvio {
 namespace {
 namespace fs = std::filesystem;
+// The force walk's floor of the weight-file tests (backend section lines).
+const std::string kFloor = "  force_random_walk: 0.02\n";
 
 using Outcome = test::CommandOutcome;
 
@@ -88,6 +90,19 @@ class HdvioRun : public ::testing::Test {
     const fs::path p = dir_ / name;
     std::ofstream(p) << text;
     return p.string();
+  }
+  // hdvio from the ground-truth start with the weight file and the backend section's lines: one
+  // of its CSV outputs (out folder o_<name>).
+  static std::vector<std::pair<long long, Vec3>> hdvioOutput(const std::string& name, const std::string& weights,
+                                                             const std::string& backend,
+                                                             const std::string& csv = "stamped_force_estimate.csv") {
+    const std::string config = writeConfig(
+        name + ".yaml", "method: hdvio\nbackend:\n" + backend + "residual_force: {type: tcn, weights: " + weights +
+                            "}\nrun: {init_from_groundtruth: true}\n");
+    const Outcome o = run("--config " + config + " --dataset " + (dir_ / "seq").string() + " --out " +
+                          (dir_ / ("o_" + name)).string() + " --evaluate=false");
+    EXPECT_EQ(o.exit_code, 0) << o.output;
+    return readForceCsv(dir_ / ("o_" + name) / csv);
   }
   static fs::path dir_;
 };
@@ -358,14 +373,7 @@ TEST_F(HdvioRun, HybridWeightFileSigmaIsTheLawsNotTheModels) {
   const std::string with = (dir_ / "hybrid_sigma.tcn").string();
   learned::saveTcnFile(learned::testing::deterministicTcn(), info, with, "hdvio_run test");
   const auto estimate = [&](const std::string& name, const std::string& weights, const std::string& keys) {
-    const std::string config = writeConfig(
-        name + ".yaml", "method: hdvio\nbackend:\n  drag_linear: [0.3, 0.3, 0.05]\n" + keys +
-                            "residual_force: {type: tcn, weights: " + weights + "}\n"
-                            "run: {init_from_groundtruth: true}\n");
-    const Outcome o = run("--config " + config + " --dataset " + (dir_ / "seq").string() + " --out " +
-                          (dir_ / ("o_" + name)).string() + " --evaluate=false");
-    EXPECT_EQ(o.exit_code, 0) << o.output;
-    return readForceCsv(dir_ / ("o_" + name) / "stamped_velocity_estimate.csv");
+    return hdvioOutput(name, weights, "  drag_linear: [0.3, 0.3, 0.05]\n" + keys, "stamped_velocity_estimate.csv");
   };
   const std::string quadratic = "  drag_quadratic: [0.01, 0.01, 0.01]\n";
   const auto plain = estimate("s_plain", without, quadratic);
@@ -393,18 +401,8 @@ TEST_F(HdvioRun, WeightFileWalkRaisesTheForceWalk) {
   info.force_walk = 0.5;
   const std::string with = (dir_ / "walk.tcn").string();
   learned::saveTcnFile(learned::testing::deterministicTcn(), info, with, "hdvio_run test");
-  const auto estimate = [&](const std::string& name, const std::string& weights) {
-    const std::string config = writeConfig(
-        name + ".yaml", "method: hdvio\nbackend: {force_random_walk: 0.02}\n"
-                        "residual_force: {type: tcn, weights: " + weights + "}\n"
-                        "run: {init_from_groundtruth: true}\n");
-    const Outcome o = run("--config " + config + " --dataset " + (dir_ / "seq").string() + " --out " +
-                          (dir_ / ("o_" + name)).string() + " --evaluate=false");
-    EXPECT_EQ(o.exit_code, 0) << o.output;
-    return readForceCsv(dir_ / ("o_" + name) / "stamped_force_estimate.csv");
-  };
-  const auto tight = estimate("w_none", without);
-  const auto loose = estimate("w_file", with);
+  const auto tight = hdvioOutput("w_none", without, kFloor);
+  const auto loose = hdvioOutput("w_file", with, kFloor);
   ASSERT_GT(tight.size(), 40u);
   ASSERT_EQ(tight.size(), loose.size());
   double moved = 0.0;
@@ -433,19 +431,9 @@ TEST_F(HdvioRun, FlightOutsideTheModelsEnvelopeLoosensTheForceWalk) {
   };
   const std::string none = (dir_ / "env_none.tcn").string();
   learned::saveTcnFile(learned::testing::deterministicTcn(), info, none, "hdvio_run test");  // no envelope
-  const auto estimate = [&](const std::string& name, const std::string& path) {
-    const std::string config = writeConfig(
-        name + ".yaml", "method: hdvio\nbackend: {force_random_walk: 0.02}\n"
-                        "residual_force: {type: tcn, weights: " + path + "}\n"
-                        "run: {init_from_groundtruth: true}\n");
-    const Outcome o = run("--config " + config + " --dataset " + (dir_ / "seq").string() + " --out " +
-                          (dir_ / ("o_" + name)).string() + " --evaluate=false");
-    EXPECT_EQ(o.exit_code, 0) << o.output;
-    return readForceCsv(dir_ / ("o_" + name) / "stamped_force_estimate.csv");
-  };
-  const auto plain = estimate("e_none", none);
-  const auto inside = estimate("e_inside", weights("env_wide.tcn", 100.0));
-  const auto outside = estimate("e_outside", weights("env_slow.tcn", 0.05));
+  const auto plain = hdvioOutput("e_none", none, kFloor);
+  const auto inside = hdvioOutput("e_inside", weights("env_wide.tcn", 100.0), kFloor);
+  const auto outside = hdvioOutput("e_outside", weights("env_slow.tcn", 0.05), kFloor);
   ASSERT_GT(plain.size(), 40u);
   ASSERT_EQ(plain.size(), inside.size());
   ASSERT_EQ(plain.size(), outside.size());
