@@ -255,15 +255,12 @@ TEST_F(BenchPeer, SimImagesMatrixRunsOpenVinsBesideTheFrontendExperiments) {
     }
     EXPECT_EQ(renders, 1) << o.output;
     EXPECT_EQ(openvins, 3) << o.output;
-    // vio, vimo, hdvio (and on indsim's flights hdvio with the slow-flight model) x ground-truth /
-    // own start x 3 seeds
-    EXPECT_EQ(hdvio_runs, indsim ? 24 : 18) << o.output;
+    // vio, vimo, hdvio, hdvio with the slow-flight model x ground-truth / own start x 3 seeds
+    EXPECT_EQ(hdvio_runs, 24) << o.output;
     const std::string copy = readFile(out / "runs" / sequence / "hdvio_gt" / "seed2" / "experiment.yaml");
     EXPECT_NE(copy.find(indsim ? "indsim_drag.tcn" : "sim_drag.tcn"), std::string::npos) << copy;
-    if (indsim) {
-      const std::string slow = readFile(out / "runs" / sequence / "hdvio_slow_gt" / "seed2" / "experiment.yaml");
-      EXPECT_NE(slow.find("indsim_slow.tcn"), std::string::npos) << slow;
-    }
+    const std::string slow = readFile(out / "runs" / sequence / "hdvio_slow_gt" / "seed2" / "experiment.yaml");
+    EXPECT_NE(slow.find(indsim ? "indsim_slow.tcn" : "/sim_slow.tcn"), std::string::npos) << slow;
   }
 }
 
