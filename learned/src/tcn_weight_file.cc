@@ -508,6 +508,8 @@ std::string formatAny(const Tcn& tcn, const TcnFileInfo* info, const std::string
     if (v6) os << "supervision " << info->supervision << '\n';
     if (v7) {
       const ModelEnvelope& e = info->envelope;
+      if (!std::isfinite(e.speed_max) || !std::isfinite(e.rate_max) || !std::isfinite(e.thrust_max))
+        throw std::invalid_argument("a weight file's envelope bounds speed, rate and thrust (all four numbers)");
       os << "envelope";
       for (double v : {e.speed_max, e.rate_max, e.thrust_min, e.thrust_max}) {
         std::snprintf(buf, sizeof(buf), "%.9g", v);

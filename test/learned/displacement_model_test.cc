@@ -255,6 +255,12 @@ TEST(ForceWeightFile, Version7CarriesTheTrainingEnvelope) {
   EXPECT_EQ(back.rate_max, 1.35);
   EXPECT_EQ(back.thrust_min, 8.97);
   EXPECT_EQ(back.thrust_max, 13.4);
+  // A partial envelope cannot be written (the reader needs all four bounds).
+  ModelEnvelope partial;
+  partial.speed_max = 9.16;
+  TcnFileInfo partial_info = info;
+  partial_info.envelope = partial;
+  EXPECT_THROW(formatTcnFile(tcn, partial_info), std::invalid_argument);
   // Without one the file stays version 5 and reads as unbounded.
   info.envelope = ModelEnvelope();
   const std::string v5 = formatTcnFile(tcn, info);
