@@ -152,6 +152,11 @@ void ConfigReader::fail(const YAML::Node& at, const std::string& key,
   throw InputError(state_->file, lineOf(at), "key '" + keyPath(key) + "': " + problem);
 }
 
+void ConfigReader::fail(const std::string& key, const std::string& problem) const {
+  const YAML::Node at = node_[key];
+  fail(at.IsDefined() ? at : node_, key, problem);
+}
+
 bool ConfigReader::has(const std::string& key) const {
   return node_[key].IsDefined() && !node_[key].IsNull();
 }

@@ -49,6 +49,14 @@ TEST(Config, UnknownKeyNamesFileLineAndPath) {
   EXPECT_EQ(errorOf([&] { sub.finish(); }), "exp.yaml:4: key 'sub.typo': unknown key");
 }
 
+// A problem a program finds in a value names the key's line, or the map's for an absent key.
+TEST(Config, FailNamesTheKeysLineOrTheMaps) {
+  auto cfg = ConfigReader::fromString("a: 1\nsub:\n  b: 2\n  c: 3\n", "exp.yaml");
+  const ConfigReader sub = cfg.section("sub");
+  EXPECT_EQ(errorOf([&] { sub.fail("c", "too large"); }), "exp.yaml:4: key 'sub.c': too large");
+  EXPECT_EQ(errorOf([&] { sub.fail("d", "missing"); }), "exp.yaml:3: key 'sub.d': missing");
+}
+
 TEST(Config, RootFinishChecksOpenedSectionsAndListItems) {
   auto cfg = ConfigReader::fromString(
       "a: 1\nsub:\n  b: 2\n  deeper:\n    typo: 3\n", "exp.yaml");

@@ -10,6 +10,7 @@
 
 #include "deterministic_tcn.h"
 #include "hdvio/core/error.h"
+#include "hdvio/learned/displacement_ensemble.h"
 #include "hdvio/learned/displacement_examples.h"
 #include "hdvio/learned/displacement_model.h"
 #include "hdvio/learned/residual_force_model.h"
@@ -306,11 +307,13 @@ TEST(DisplacementModel, LoadChecksTaskAndSigma) {
   std::remove(path.c_str());
 }
 
-// A tiny model (window 5 at 100 Hz) for the window builder; weights do not matter.
-DisplacementModel tinyModel(DisplacementInputKind kind) {
+// A tiny model (window 5 at 100 Hz) for the window builder; with its zero convolutions it
+// predicts `displacement` for every window.
+DisplacementModel tinyModel(DisplacementInputKind kind, const Eigen::Vector3f& displacement = Eigen::Vector3f::Zero(),
+                            std::optional<Eigen::Vector3d> sigma = Eigen::Vector3d::Constant(0.1), int window = 5) {
   TcnArchitecture a;
   a.residual = true;
-  a.window = 5;
+  a.window = window;
   a.layers = {{3, 1}};
   TcnWeights w;
   w.input_mean = VectorXf::Zero(6);
@@ -318,8 +321,44 @@ DisplacementModel tinyModel(DisplacementInputKind kind) {
   w.conv = {{MatrixXf::Zero(3, 12), VectorXf::Zero(3)}, {MatrixXf::Zero(3, 6), VectorXf::Zero(3)}};
   w.skip = {{MatrixXf::Zero(3, 6), VectorXf::Zero(3)}};
   w.head_weight = MatrixXf::Identity(3, 3);
-  w.head_bias = VectorXf::Zero(3);
-  return DisplacementModel(Tcn(a, w), kind, Eigen::Vector3d::Constant(0.1));
+  w.head_bias = displacement;
+  return DisplacementModel(Tcn(a, w), kind, sigma);
+}
+
+TEST(DisplacementEnsemble, MeanDisplacementAndTheMixturesCovariance) {
+  using K = DisplacementInputKind;
+  const MatrixXf window = MatrixXf::Ones(6, 5);
+  TcnWorkspace workspace;
+  const DisplacementEnsemble one({tinyModel(K::kThrustGyro, {1.0f, 2.0f, 3.0f})});
+  const DisplacementPrediction p1 = one.predict(window, &workspace);
+  const DisplacementPrediction m1 = tinyModel(K::kThrustGyro, {1.0f, 2.0f, 3.0f}).predict(window);
+  EXPECT_EQ(p1.displacement, m1.displacement);  // one member: that network, unchanged
+  EXPECT_EQ(p1.covariance, m1.covariance);
+
+  const DisplacementEnsemble two({tinyModel(K::kThrustGyro, {1.0f, 0.0f, 0.0f}),
+                                  tinyModel(K::kThrustGyro, {3.0f, 0.0f, 0.0f}, Eigen::Vector3d(0.3, 0.1, 0.1))});
+  const DisplacementPrediction p = two.predict(window, &workspace);
+  EXPECT_NEAR((p.displacement - Vec3(2.0, 0.0, 0.0)).norm(), 0.0, 1e-6);
+  // Members' mean variance (0.01 + 0.09) / 2 plus their spread around the mean (1 + 1) / 2.
+  EXPECT_NEAR(p.covariance(0, 0), 0.05 + 1.0, 1e-6);
+  EXPECT_NEAR(p.covariance(1, 1), 0.01, 1e-9);
+  EXPECT_NEAR(p.covariance(0, 1), 0.0, 1e-9);
+  EXPECT_EQ(two.size(), 2);
+  EXPECT_TRUE(two.hasCovariance());
+
+  // Members without covariance: the mean, no covariance (the filter's own sigma then).
+  const DisplacementEnsemble bare({tinyModel(K::kThrustGyro, {1.0f, 0.0f, 0.0f}, std::nullopt),
+                                   tinyModel(K::kThrustGyro, {3.0f, 0.0f, 0.0f}, std::nullopt)});
+  EXPECT_FALSE(bare.hasCovariance());
+  EXPECT_EQ(bare.predict(window, &workspace).covariance, Eigen::Matrix3d::Zero());
+
+  // Members must read the same window and agree on having a covariance.
+  EXPECT_THROW(DisplacementEnsemble({}), std::invalid_argument);
+  EXPECT_THROW(DisplacementEnsemble({tinyModel(K::kThrustGyro), tinyModel(K::kAccelGyro)}), std::invalid_argument);
+  EXPECT_THROW(DisplacementEnsemble({tinyModel(K::kThrustGyro), tinyModel(K::kThrustGyro, Eigen::Vector3f::Zero(), Eigen::Vector3d::Constant(0.1), 6)}),
+               std::invalid_argument);
+  EXPECT_THROW(DisplacementEnsemble({tinyModel(K::kThrustGyro), tinyModel(K::kThrustGyro, Eigen::Vector3f::Zero(), std::nullopt)}),
+               std::invalid_argument);
 }
 
 // Signals linear in time, so linear interpolation is exact.

@@ -176,5 +176,28 @@ TEST(ImoPipeline, SourceCovarianceFromANetworkWithoutOneIsAnInputError) {
   }
 }
 
+// network.ensemble: networks of one recipe as one source; exactly one of weights and ensemble,
+// members that read the same window.
+TEST(ImoPipeline, NetworkEnsembleKeysAreChecked) {
+  const std::string models = std::string(HDVIO_SOURCE_DIR) + "/learned/models/";
+  const std::string dido = models + "imo_dido_1.tcn, " + models + "imo_dido_2.tcn";
+  EXPECT_NO_THROW(make("imo", "method: imo\nnetwork: {ensemble: [" + dido + "]}\n"));
+  const auto expectError = [](const std::string& yaml, const std::string& what) {
+    try {
+      make("imo", yaml);
+      ADD_FAILURE() << "no error for " << yaml;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("test.yaml:2"), std::string::npos) << e.what();
+    }
+  };
+  expectError("method: imo\nnetwork: {weights: " + models + "imo_dido_1.tcn, ensemble: [" + dido + "]}\n",
+              "exactly one of weights");
+  expectError("method: imo\nnetwork: {}\n", "exactly one of weights");
+  expectError("method: imo\nnetwork: {ensemble: []}\n", "the list is empty");
+  expectError("method: imo\nnetwork: {ensemble: [" + dido + ", " + models + "tlio_dido.tcn]}\n",
+              "member 3 reads another window");
+}
+
 }  // namespace
 }  // namespace hdvio::run

@@ -115,7 +115,7 @@ class GateIoPipeline : public MethodPipeline {
   imo::ImoRunOptions run_;         // filter noise and initial covariance; grid/window for displacements
   imo::GateCornerSection gate_;    // corner update options, use_detections
   DisplacementUse displacement_ = DisplacementUse::kNone;  // kNone or kFilterUpdate (network)
-  std::shared_ptr<const learned::DisplacementModel> model_;
+  std::shared_ptr<const learned::DisplacementEnsemble> model_;  // one network or an ensemble
   Vec3 init_gyro_bias_ = Vec3::Zero();
   Vec3 init_accel_bias_ = Vec3::Zero();
   bool release_first_window_sample_ = false;

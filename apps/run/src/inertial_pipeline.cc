@@ -153,7 +153,7 @@ class InertialPipeline : public MethodPipeline {
   std::string name_;  // as in the config, for messages
   ExperimentFile file_;
   imo::ImoRunOptions options_;
-  std::shared_ptr<const learned::DisplacementModel> model_;
+  std::shared_ptr<const learned::DisplacementEnsemble> model_;  // one network or an ensemble
   imo::DragModelSection drag_model_;  // model_ekf: the model and its integration
   RotorThrust rotor_thrust_;
   Vec3 init_gyro_bias_ = Vec3::Zero();

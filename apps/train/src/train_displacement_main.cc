@@ -37,6 +37,7 @@ DEFINE_int32(fold, -1, "cross-validation fold to train (needs data.cross_validat
 DEFINE_int32(epochs, 0, "> 0: train exactly this many epochs on all of data.train (no held-out blocks) "
              "and keep the last weights; needs --output_sigma");
 DEFINE_string(output_sigma, "", "x,y,z [m] written as output_sigma with --epochs (from the folds)");
+DEFINE_int32(seed, -1, ">= 0: replaces training.seed (the members of an ensemble differ only in it)");
 DEFINE_int32(save_every, 0, "> 0: also write epoch_<e>.tcn every this many epochs into --checkpoint_dir");
 DEFINE_bool(resume, false, "continue the training in --checkpoint_dir after its last finished epoch "
             "(resume.pt; the same --config): the weights of an uninterrupted run");
@@ -97,7 +98,12 @@ int run() {
   data.finish();
   std::string inputs;
   const learned::TcnArchitecture arch = readModel(config.section("model"), &inputs);
-  learned::DisplacementTrainOptions options = readTraining(config.section("training"));
+  const ConfigReader training = config.section("training");
+  learned::DisplacementTrainOptions options = readTraining(training);
+  if (FLAGS_seed >= 0) {
+    options.seed = FLAGS_seed;
+    training.recordEffective("seed", FLAGS_seed);
+  }
   std::string encoding = "float32";
   config.optionalSection("output").readChoice("encoding", &encoding, {"float32", "text"});
   config.finish();
@@ -205,12 +211,13 @@ int run() {
   const std::string how =
       FLAGS_epochs > 0
           ? "\n" + std::to_string(FLAGS_epochs) + " epochs on all of data.train (--epochs), output_sigma " +
-                FLAGS_output_sigma + " (--output_sigma, from the cross-validation folds)"
+                FLAGS_output_sigma + " (--output_sigma)"
           : "\nbest epoch " + std::to_string(result.best_epoch) + " of " +
                 std::to_string(result.history.size() - 1) + ", validation MSE " +
                 std::to_string(best.validation_loss) + " m^2";
+  const std::string seed = FLAGS_seed >= 0 ? " --seed " + std::to_string(FLAGS_seed) : "";
   learned::saveTcnFile(result.best, info, FLAGS_out,
-                       "trained by hdvio_train_displacement --config " + FLAGS_config + how,
+                       "trained by hdvio_train_displacement --config " + FLAGS_config + seed + how,
                        encoding == "text" ? learned::TcnEncoding::kText : learned::TcnEncoding::kFloat32);
   std::cout << "wrote " << FLAGS_out << "\n";
   return 0;

@@ -19,16 +19,16 @@ void repeatNextSample(std::vector<Sample>* stream, Timestamp t) {
 }  // namespace
 
 imo::DisplacementSource networkDisplacementSource(
-    std::shared_ptr<const learned::DisplacementModel> model,
+    std::shared_ptr<const learned::DisplacementEnsemble> networks,
     std::shared_ptr<const std::vector<ImuSample>> imu,
     std::shared_ptr<const std::vector<ThrustSample>> thrust, std::optional<Timestamp> repeat_next_at) {
-  const bool use_thrust = model->inputKind() == learned::DisplacementInputKind::kThrustGyro;
-  const Timestamp w = model->windowDuration();
+  const bool use_thrust = networks->inputKind() == learned::DisplacementInputKind::kThrustGyro;
+  const Timestamp w = networks->windowDuration();
   auto covered = [w](const auto& stream, Timestamp t_end) {
     return !stream.empty() && stream.front().t <= t_end - w && stream.back().t >= t_end;
   };
   // The network's scratch is part of the source: each copy of the std::function has its own.
-  return [model = std::move(model), imu = std::move(imu), thrust = std::move(thrust), use_thrust, covered, w,
+  return [networks = std::move(networks), imu = std::move(imu), thrust = std::move(thrust), use_thrust, covered, w,
           repeat_next_at, workspace = learned::TcnWorkspace()](
              const imo::DisplacementRequest& r) mutable -> std::optional<imo::DisplacementEstimate> {
     if (!covered(*imu, r.t_end) || (use_thrust && !covered(*thrust, r.t_end))) return std::nullopt;
@@ -39,18 +39,27 @@ imo::DisplacementSource networkDisplacementSource(
       std::vector<ThrustSample> thrust_copy = *thrust;
       repeatNextSample(&imu_copy, *repeat_next_at);
       repeatNextSample(&thrust_copy, *repeat_next_at);
-      window = learned::makeDisplacementWindow(*model, imu_copy, thrust_copy, r.t_end, r.world_from_body,
+      window = learned::makeDisplacementWindow(networks->layout(), imu_copy, thrust_copy, r.t_end, r.world_from_body,
                                                r.gyro_bias, r.accel_bias);
     } else {
-      window = learned::makeDisplacementWindow(*model, *imu, *thrust, r.t_end, r.world_from_body, r.gyro_bias,
+      window = learned::makeDisplacementWindow(networks->layout(), *imu, *thrust, r.t_end, r.world_from_body, r.gyro_bias,
                                                r.accel_bias);
     }
-    const learned::DisplacementPrediction p = model->predict(window, &workspace);
+    const learned::DisplacementPrediction p = networks->predict(window, &workspace);
     imo::DisplacementEstimate e;
     e.z = p.displacement;
     e.covariance = p.covariance;
     return e;
   };
+}
+
+imo::DisplacementSource networkDisplacementSource(
+    std::shared_ptr<const learned::DisplacementModel> model,
+    std::shared_ptr<const std::vector<ImuSample>> imu,
+    std::shared_ptr<const std::vector<ThrustSample>> thrust, std::optional<Timestamp> repeat_next_at) {
+  return networkDisplacementSource(
+      std::make_shared<const learned::DisplacementEnsemble>(std::vector<learned::DisplacementModel>{*model}),
+      std::move(imu), std::move(thrust), repeat_next_at);
 }
 
 }  // namespace hdvio

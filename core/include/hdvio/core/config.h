@@ -56,6 +56,9 @@ class ConfigReader {
 
   // Throws InputError naming every key of this map that was never read.
   void finish() const;
+  // Throws InputError for a problem a program finds in a key's value (or, for a key that is
+  // absent, in this map): the file, the line of the key (or of the map) and the key path.
+  [[noreturn]] void fail(const std::string& key, const std::string& problem) const;
 
   // Replaces a key's value in the effective configuration: for a default a program decides
   // from the data (e.g. the IMU noise of a dataset's sensor.yaml), so the file says what ran.

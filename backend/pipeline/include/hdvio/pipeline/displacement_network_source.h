@@ -1,5 +1,5 @@
 #pragma once
-// The learned displacement network (learned/displacement_model.h) as the IMO filter's
+// The learned displacement network (learned/displacement_model.h), or an ensemble of them, as the IMO filter's
 // displacement source (backend/imo displacement_source.h): over each requested window, the
 // network's displacement with the filter's orientation (learned::makeDisplacementWindow).
 #include <memory>
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "hdvio/backend/imo/displacement_source.h"
-#include "hdvio/learned/displacement_model.h"
+#include "hdvio/learned/displacement_ensemble.h"
 
 namespace hdvio {
 
@@ -17,6 +17,13 @@ namespace hdvio {
 // windows, the IMU and thrust samples at that time take the next samples' values.
 // The source holds the network's scratch memory: calls on one source object must not overlap
 // (copies of it are independent).
+// An ensemble's members read the same window (learned/displacement_ensemble.h).
+imo::DisplacementSource networkDisplacementSource(
+    std::shared_ptr<const learned::DisplacementEnsemble> networks,
+    std::shared_ptr<const std::vector<ImuSample>> imu,
+    std::shared_ptr<const std::vector<ThrustSample>> thrust,
+    std::optional<Timestamp> repeat_next_at = std::nullopt);
+// One network.
 imo::DisplacementSource networkDisplacementSource(
     std::shared_ptr<const learned::DisplacementModel> model,
     std::shared_ptr<const std::vector<ImuSample>> imu,
