@@ -75,6 +75,11 @@ void DepthFilter::attachLandmark(int seed_id, int landmark_id) {
     if (s.id == seed_id) s.landmark_id = landmark_id;
 }
 
+void DepthFilter::setTrackId(int seed_id, int track_id) {
+  for (Seed& s : seeds_)
+    if (s.id == seed_id) s.track_id = track_id;
+}
+
 void DepthFilter::removeSeedsOf(const FramePtr& keyframe) {
   seeds_.erase(std::remove_if(seeds_.begin(), seeds_.end(),
                               [&](const Seed& s) { return s.keyframe == keyframe; }),
@@ -82,7 +87,7 @@ void DepthFilter::removeSeedsOf(const FramePtr& keyframe) {
 }
 
 bool DepthFilter::findEpipolarMatch(const Seed& seed, const Frame& frame, const Pose& T_cur_ref,
-                                    Vec2* px_found) const {
+                                    Vec2* px_found, int* level_found) const {
   const Vec3& f_ref = seed.feature.f;
   const double sigma = std::sqrt(seed.sigma2);
   const double d_est = 1.0 / seed.mu;
@@ -139,10 +144,11 @@ bool DepthFilter::findEpipolarMatch(const Seed& seed, const Frame& frame, const 
   const int finest = refineToFinerLevels(frame.pyramid, A, seed.keyframe->pyramid, seed.feature.px,
                                          seed.feature.level, level, &best_px);
   *px_found = best_px * static_cast<double>(1 << finest);
+  *level_found = finest;
   return true;
 }
 
-std::vector<Seed> DepthFilter::update(const Frame& frame) {
+std::vector<Seed> DepthFilter::update(const Frame& frame, std::vector<Match>* matches) {
   std::vector<Seed> converged;
   const double px_error_angle = 2.0 * std::atan(options_.pixel_noise / (2.0 * camera_.focalLength()));
   for (auto it = seeds_.begin(); it != seeds_.end();) {
@@ -161,7 +167,8 @@ std::vector<Seed> DepthFilter::update(const Frame& frame) {
       ++it;
       continue;
     }
-    if (!findEpipolarMatch(s, frame, T_cur_ref, &px_cur)) {
+    int level = 0;
+    if (!findEpipolarMatch(s, frame, T_cur_ref, &px_cur, &level)) {
       s.b += 1.0;  // a failed match is evidence for an outlier seed
       ++it;
       continue;
@@ -179,6 +186,7 @@ std::vector<Seed> DepthFilter::update(const Frame& frame) {
     }
     const double tau = computeTau(T_ref_cur, s.feature.f, z, px_error_angle);
     const double tau_inverse = 0.5 * (1.0 / std::max(1e-7, z - tau) - 1.0 / (z + tau));
+    if (matches && s.track_id >= 0) matches->push_back({s.track_id, px_cur, level, s.updates});
     updateSeed(1.0 / z, tau_inverse * tau_inverse, &s);
     ++s.updates;
     if (!std::isfinite(s.mu) || !std::isfinite(s.sigma2) || s.mu <= 0.0) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <set>
 
 #include "hdvio/core/error.h"
 #include "hdvio/core/thread_clock.h"
@@ -75,6 +76,7 @@ FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPri
 
   FrameResult result;
   result.t = input.t;
+  seed_matches_.clear();
   auto frame = std::make_shared<Frame>();
   frame->id = next_frame_id_++;
   frame->t = input.t;
@@ -184,9 +186,11 @@ FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPri
     have_rotation_prior_ = false;
   }
   result.tracked = tracked;
-  if (tracked)
+  if (tracked) {
     for (const Feature& f : frame->features)
       if (f.landmark_id >= 0) result.observations.push_back({f.landmark_id, f.px, f.f, f.level});
+    appendSeedTracks(*frame, &result.observations);
+  }
   result.stage = stage_;
   result.T_WB = cameraToBody(tracked || !last_frame_ ? frame->T_cw : last_frame_->T_cw);
   result.landmarks = static_cast<int>(map_.landmarks.size());
@@ -306,7 +310,7 @@ void SemiDirectFrontend::refineStructure(const Frame& frame) {
 }
 
 void SemiDirectFrontend::updateDepthFilter(const Frame& frame) {
-  const std::vector<Seed> converged = depth_filter_.update(frame);
+  const std::vector<Seed> converged = depth_filter_.update(frame, &seed_matches_);
   // Provisional landmarks follow their seeds.
   for (const Seed& s : depth_filter_.seeds()) {
     if (s.landmark_id < 0) continue;
@@ -326,7 +330,7 @@ void SemiDirectFrontend::updateDepthFilter(const Frame& frame) {
     }
     if (std::find(map_.keyframes.begin(), map_.keyframes.end(), s.keyframe) == map_.keyframes.end())
       continue;  // its keyframe has left the map
-    LandmarkPtr lm = map_.addLandmark(p_w, true);
+    LandmarkPtr lm = map_.addLandmark(p_w, true, s.track_id);
     Feature ftr = s.feature;
     ftr.landmark_id = lm->id;
     s.keyframe->features.push_back(ftr);
@@ -356,7 +360,14 @@ void SemiDirectFrontend::addKeyframe(const FramePtr& frame, FrameResult* result)
   std::vector<Feature> fresh;
   for (const Corner& c : detectCorners(frame->pyramid, options_.detector, grid_, occupied))
     fresh.push_back({c.px, camera_.unproject(c.px), c.level, -1});
-  depth_filter_.addKeyframe(frame, fresh, median_depth, std::max(0.5 * min_depth, 0.1));
+  const std::vector<int> seed_ids =
+      depth_filter_.addKeyframe(frame, fresh, median_depth, std::max(0.5 * min_depth, 0.1));
+  // Each seed's matches are reported under a landmark id reserved now, which its landmark keeps.
+  for (std::size_t i = 0; i < fresh.size(); ++i) {
+    const int track = map_.next_landmark_id++;
+    depth_filter_.setTrackId(seed_ids[i], track);
+    seed_matches_.push_back({track, fresh[i].px, fresh[i].level, 0});
+  }
   map_.keyframes.push_back(frame);
   while (static_cast<int>(map_.keyframes.size()) > options_.max_keyframes) {
     std::vector<FramePtr> others(map_.keyframes.begin(), map_.keyframes.end() - 1);
@@ -367,6 +378,31 @@ void SemiDirectFrontend::addKeyframe(const FramePtr& frame, FrameResult* result)
   bundle.new_landmarks = std::move(pending_landmarks_);
   pending_landmarks_.clear();
   result->keyframe = std::move(bundle);
+}
+
+void SemiDirectFrontend::appendSeedTracks(const Frame& frame,
+                                          std::vector<KeyframeBundle::Observation>* observations) const {
+  // One observation per grid cell, as the reprojector matches landmarks: cells of matched
+  // landmarks are taken; in a free cell the seed with the most depth updates.
+  std::vector<bool> taken(grid_.cells(), false);
+  for (const Feature& f : frame.features) {
+    const int c = grid_.cellIndex(f.px);
+    if (c >= 0) taken[c] = true;
+  }
+  std::set<int> seen;
+  for (const auto& o : *observations) seen.insert(o.landmark_id);
+  std::vector<int> best(grid_.cells(), -1);
+  for (std::size_t i = 0; i < seed_matches_.size(); ++i) {
+    const DepthFilter::Match& m = seed_matches_[i];
+    const int c = grid_.cellIndex(m.px);
+    if (c < 0 || taken[c] || seen.count(m.track_id)) continue;
+    if (best[c] < 0 || m.updates > seed_matches_[best[c]].updates) best[c] = static_cast<int>(i);
+  }
+  for (int i : best) {
+    if (i < 0) continue;
+    const DepthFilter::Match& m = seed_matches_[i];
+    observations->push_back({m.track_id, m.px, camera_.unproject(m.px), m.level});
+  }
 }
 
 int SemiDirectFrontend::convergedLandmarks() const {

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
+#include <set>
 
 #include "hdvio/core/error.h"
 #include "hdvio/frontend/semi_direct_frontend.h"
@@ -86,6 +88,57 @@ TEST_F(FrontendSyntheticFlight, TracksEveryImageAndConvergesNewLandmarks) {
   EXPECT_GT(converged_new, 50);     // depth filters became landmarks
   EXPECT_LT(max_pos_err, 0.05);     // m, over a 1.5 m flight
   EXPECT_LT(max_rot_err_deg, 0.5);
+}
+
+// A keyframe's new features reach the backend from that keyframe on, as observations of their
+// seeds' tracks, not only once their depths converged: one observation per grid cell (cells
+// of matched landmarks first), within the precision of matched landmarks, and a seed that
+// converges becomes the landmark of its track's id.
+TEST_F(FrontendSyntheticFlight, SeedsAreObservedFromTheirKeyframeOn) {
+  SemiDirectFrontend fe(calibration());
+  const int cell = FrontendOptions().detector.cell_size;
+  std::map<int, std::pair<int, Vec2>> first;  // id -> image and pixel of its first observation
+  std::set<int> seed_ids;
+  int seed_observations = 0, far_off = 0, checked = 0, same_cell = 0;
+  for (int k = 0; k < 40; ++k) {
+    const FrameResult r = fe.track(image(k), prior(fe, k));
+    ASSERT_TRUE(r.tracked) << "image " << k;
+    // Cells of matched landmarks (a landmark's refined pixel may leave the cell it was searched
+    // in), then each seed's: a seed never shares one.
+    const auto cellOf = [cell](const Vec2& px) {
+      return std::make_pair(static_cast<int>(px.x()) / cell, static_cast<int>(px.y()) / cell);
+    };
+    std::set<std::pair<int, int>> cells;
+    for (const auto& o : r.observations)
+      if (fe.map().landmarks.count(o.landmark_id)) cells.insert(cellOf(o.px));
+    for (const auto& o : r.observations) {
+      const bool seed = fe.map().landmarks.count(o.landmark_id) == 0;
+      if (seed) {
+        seed_ids.insert(o.landmark_id);
+        ++seed_observations;
+        same_cell += !cells.insert(cellOf(o.px)).second;
+      }
+      const auto [it, is_first] = first.emplace(o.landmark_id, std::make_pair(k, o.px));
+      if (is_first || !seed) continue;
+      // The true point: the first observation's ray from its true camera meets the room.
+      const Pose a = cameraPoseAt(it->second.first);
+      Vec3 hit;
+      room_.castRay(a.p, (a.q * camera_.unproject(it->second.second)).normalized(), &hit);
+      Vec2 truth;
+      if (!camera_.project(cameraPoseAt(k).inverse() * hit, &truth)) continue;
+      ++checked;
+      far_off += (o.px - truth).norm() > 2.0;
+    }
+  }
+  int became_landmarks = 0;
+  for (int id : seed_ids) became_landmarks += fe.map().landmarks.count(id) > 0;
+  std::printf("%d seed observations of %zu seed tracks, %d of %d checked more than 2 px off, "
+              "%d became landmarks\n", seed_observations, seed_ids.size(), far_off, checked, became_landmarks);
+  EXPECT_EQ(same_cell, 0);
+  EXPECT_GT(seed_observations, 200);
+  EXPECT_GT(checked, 100);
+  EXPECT_LE(far_off, checked / 20);
+  EXPECT_GT(became_landmarks, 20);
 }
 
 TEST_F(FrontendSyntheticFlight, DetectsLossAndReinitializes) {

@@ -36,6 +36,7 @@ struct Seed {
   int keyframe_age = 0;
   int updates = 0;
   int landmark_id = -1;    // provisional landmark that follows this seed (initialization)
+  int track_id = -1;       // landmark id its matches are reported under before it converges
 
   double depth() const { return 1.0 / mu; }
   bool converged(double ratio) const { return std::sqrt(sigma2) < z_range / ratio; }
@@ -57,8 +58,16 @@ class DepthFilter {
   std::vector<int> addKeyframe(const FramePtr& keyframe, const std::vector<Feature>& features,
                                double depth_mean, double depth_min);
   // Updates every seed with a frame of known pose; returns (and removes) converged seeds.
-  std::vector<Seed> update(const Frame& frame);
+  // matches (optional): every seed with a track id matched in this frame, converged or not.
+  struct Match {
+    int track_id = -1;
+    Vec2 px;   // level-0 pixel
+    int level = 0;
+    int updates = 0;  // the seed's depth updates before this one
+  };
+  std::vector<Seed> update(const Frame& frame, std::vector<Match>* matches = nullptr);
   void attachLandmark(int seed_id, int landmark_id);
+  void setTrackId(int seed_id, int track_id);
   // Drops the seeds of a keyframe that left the map (their patches cannot become landmarks).
   void removeSeedsOf(const FramePtr& keyframe);
   void clear() { seeds_.clear(); }
@@ -67,7 +76,7 @@ class DepthFilter {
  private:
   // Searches seed's feature along the epipolar segment in frame; *px_found in level-0 pixels.
   bool findEpipolarMatch(const Seed& seed, const Frame& frame, const Pose& T_cur_ref,
-                         Vec2* px_found) const;
+                         Vec2* px_found, int* level_found) const;
 
   CameraModel camera_;
   DepthFilterOptions options_;

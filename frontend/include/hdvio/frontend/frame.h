@@ -52,9 +52,10 @@ struct Map {
   std::map<int, LandmarkPtr> landmarks;
   int next_landmark_id = 0;
 
-  LandmarkPtr addLandmark(const Vec3& p_w, bool converged) {
+  // id: one reserved earlier with next_landmark_id++ (a seed's track), or -1 for a new one.
+  LandmarkPtr addLandmark(const Vec3& p_w, bool converged, int id = -1) {
     auto lm = std::make_shared<Landmark>();
-    lm->id = next_landmark_id++;
+    lm->id = id >= 0 ? id : next_landmark_id++;
     lm->p_w = p_w;
     lm->converged = converged;
     landmarks[lm->id] = lm;

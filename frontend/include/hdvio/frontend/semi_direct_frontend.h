@@ -51,6 +51,9 @@ class SemiDirectFrontend {
   void updateDepthFilter(const Frame& frame);
   void addKeyframe(const FramePtr& frame, FrameResult* result);
   int convergedLandmarks() const;
+  // The seeds matched in this image (seed_matches_) as observations of their tracks, so the
+  // backend sees a new feature from its keyframe on, not from its convergence.
+  void appendSeedTracks(const Frame& frame, std::vector<KeyframeBundle::Observation>* observations) const;
 
   Pose cameraToBody(const Pose& T_cw) const { return T_cw.inverse() * T_BS_.inverse(); }
   Pose bodyToCamera(const Pose& T_WB) const { return (T_WB * T_BS_).inverse(); }
@@ -76,6 +79,7 @@ class SemiDirectFrontend {
   int frames_since_keyframe_ = 0;
   int structure_cursor_ = 0;
   std::vector<KeyframeBundle::NewLandmark> pending_landmarks_;  // for the next bundle
+  std::vector<DepthFilter::Match> seed_matches_;  // this image's seeds: new ones and matches
 };
 
 }  // namespace hdvio::frontend
