@@ -36,7 +36,7 @@ DEFINE_string(checkpoint_dir, "", "optional folder for best.tcn (each improvemen
 DEFINE_int32(fold, -1, "cross-validation fold to train (needs data.cross_validation_folds); -1 = none");
 DEFINE_int32(epochs, 0, "> 0: train exactly this many epochs on all of data.train (no held-out blocks) "
              "and keep the last weights; needs --output_sigma");
-DEFINE_string(output_sigma, "", "x,y,z [m] written as output_sigma with --epochs (from the folds)");
+DEFINE_string(output_sigma, "", "x,y,z [m] written as output_sigma with --epochs (e.g. the validation RMSE of a selection run)");
 DEFINE_int32(seed, -1, ">= 0: replaces training.seed (the members of an ensemble differ only in it)");
 DEFINE_int32(save_every, 0, "> 0: also write epoch_<e>.tcn every this many epochs into --checkpoint_dir");
 DEFINE_bool(resume, false, "continue the training in --checkpoint_dir after its last finished epoch "

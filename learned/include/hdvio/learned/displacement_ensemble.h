@@ -18,7 +18,6 @@ class DisplacementEnsemble {
   explicit DisplacementEnsemble(std::vector<DisplacementModel> members);
 
   int size() const { return static_cast<int>(members_.size()); }
-  const DisplacementModel& member(int k) const { return members_.at(k); }
   // The window layout every member shares (makeDisplacementWindow takes it).
   const DisplacementModel& layout() const { return members_.front(); }
   DisplacementInputKind inputKind() const { return layout().inputKind(); }
