@@ -205,16 +205,30 @@ std::shared_ptr<MarginalizationPrior> marginalizeBySchurComplement(
         if (static_cast<int>(a) != s)
           addCoupling(&v, offset_of.at(fkeys[a]), lin.jacobians[a].transpose() * Js);
     }
+    // The factor's other Jacobians side by side: one product for its whole block of H (a
+    // prior over the window is ~100 x 150; block by block it was a hundred small products).
+    std::vector<std::pair<int, int>> columns;  // (offset in H, width), in the factor's key order
+    int width = 0;
     for (std::size_t a = 0; a < fkeys.size(); ++a) {
       if (static_cast<int>(a) == s) continue;
-      const int ia = offset_of.at(fkeys[a]);
-      const Eigen::MatrixXd& Ja = lin.jacobians[a];
-      b.segment(ia, Ja.cols()).noalias() += Ja.transpose() * lin.residual;
-      for (std::size_t c = 0; c < fkeys.size(); ++c) {
-        if (static_cast<int>(c) == s) continue;
-        const Eigen::MatrixXd& Jc = lin.jacobians[c];
-        H.block(ia, offset_of.at(fkeys[c]), Ja.cols(), Jc.cols()).noalias() += Ja.transpose() * Jc;
-      }
+      columns.emplace_back(offset_of.at(fkeys[a]), static_cast<int>(lin.jacobians[a].cols()));
+      width += columns.back().second;
+    }
+    Eigen::MatrixXd J(lin.residual.size(), width);
+    for (std::size_t a = 0, col = 0; a < fkeys.size(); ++a) {
+      if (static_cast<int>(a) == s) continue;
+      J.middleCols(col, lin.jacobians[a].cols()) = lin.jacobians[a];
+      col += lin.jacobians[a].cols();
+    }
+    Eigen::MatrixXd JtJ = Eigen::MatrixXd::Zero(width, width);
+    JtJ.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
+    JtJ.triangularView<Eigen::StrictlyUpper>() = JtJ.transpose();
+    const Eigen::VectorXd Jtr = J.transpose() * lin.residual;
+    for (std::size_t a = 0, ra = 0; a < columns.size(); ra += columns[a].second, ++a) {
+      const auto [ia, wa] = columns[a];
+      b.segment(ia, wa) += Jtr.segment(ra, wa);
+      for (std::size_t c = 0, rc = 0; c < columns.size(); rc += columns[c].second, ++c)
+        H.block(ia, columns[c].first, wa, columns[c].second) += JtJ.block(ra, rc, wa, columns[c].second);
     }
   }
   // The final factorization is scaled by the information the remaining variables had before

@@ -206,12 +206,18 @@ void VioBackend::addVisualFactors(std::uint64_t k, const FrameObservations& fram
   // New landmarks within the budget, longest tracks first (best parallax, most constraints).
   int in_window = 0;
   for (const auto& kv : tracks_) in_window += kv.second.in_graph ? 1 : 0;
-  std::stable_sort(pending.begin(), pending.end(), [&](int a, int b) {
-    return tracks_[a].obs.size() > tracks_[b].obs.size();
+  std::vector<std::pair<std::size_t, Track*>> candidates;  // (track length, track) in id order
+  candidates.reserve(pending.size());
+  for (int id : pending) candidates.emplace_back(tracks_[id].obs.size(), &tracks_[id]);
+  std::vector<std::size_t> order(pending.size());
+  for (std::size_t n = 0; n < order.size(); ++n) order[n] = n;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return candidates[a].first > candidates[b].first;
   });
-  for (int id : pending) {
+  for (std::size_t n : order) {
     if (in_window >= options_.max_landmarks) break;
-    Track& track = tracks_[id];
+    const int id = pending[n];
+    Track& track = *candidates[n].second;
     if (!tryTriangulate(id, &track)) continue;
     result->observations_used += 1;
     ++in_window;

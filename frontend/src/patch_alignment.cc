@@ -45,14 +45,26 @@ bool warpPatch(const Eigen::Matrix2d& A_cur_ref, const cv::Mat& ref_img, const V
   const Eigen::Vector2f center = px_ref.cast<float>() / static_cast<float>(1 << level_ref);
   const float search_scale = static_cast<float>(1 << search_level);
   constexpr int kHalf = kBorderedPatch / 2;
-  for (int y = 0, k = 0; y < kBorderedPatch; ++y) {
-    for (int x = 0; x < kBorderedPatch; ++x, ++k) {
-      const Eigen::Vector2f offset(static_cast<float>(x - kHalf) * search_scale,
-                                   static_cast<float>(y - kHalf) * search_scale);
-      const Eigen::Vector2f p = center + A_ref_cur * offset;
-      if (p.x() < 0.f || p.y() < 0.f || p.x() >= ref_img.cols - 1 || p.y() >= ref_img.rows - 1)
+  // The map is affine, so the patch is inside the image if its corners are; the margin keeps
+  // the interior's rounding inside too. Then no pixel needs a check of its own.
+  const float lo = -static_cast<float>(kHalf) * search_scale;
+  const float hi = static_cast<float>(kBorderedPatch - 1 - kHalf) * search_scale;
+  constexpr float kMargin = 1e-3f;
+  for (const float oy : {lo, hi}) {
+    for (const float ox : {lo, hi}) {
+      const Eigen::Vector2f p = center + A_ref_cur * Eigen::Vector2f(ox, oy);
+      if (p.x() < kMargin || p.y() < kMargin || p.x() >= ref_img.cols - 1 - kMargin ||
+          p.y() >= ref_img.rows - 1 - kMargin)
         return false;
-      (*patch)[k] = interpolate(ref_img, p.x(), p.y());
+    }
+  }
+  const float a00 = A_ref_cur(0, 0), a01 = A_ref_cur(0, 1), a10 = A_ref_cur(1, 0), a11 = A_ref_cur(1, 1);
+  for (int y = 0, k = 0; y < kBorderedPatch; ++y) {
+    const float oy = static_cast<float>(y - kHalf) * search_scale;
+    const float row_x = center.x() + a01 * oy, row_y = center.y() + a11 * oy;
+    for (int x = 0; x < kBorderedPatch; ++x, ++k) {
+      const float ox = static_cast<float>(x - kHalf) * search_scale;
+      (*patch)[k] = interpolate(ref_img, row_x + a00 * ox, row_y + a10 * ox);
     }
   }
   return true;
@@ -84,34 +96,46 @@ int refineToFinerLevels(const Pyramid& cur, const Eigen::Matrix2d& A_cur_ref,
 
 bool align2D(const cv::Mat& img, const BorderedPatch& ref, int max_iterations, Vec2* px) {
   constexpr int kB = kBorderedPatch;
+  constexpr int kP = kAlignPatch;
+  // Patch arrays are indexed (x, y): a column per image row, so Eigen's fixed-size array
+  // arithmetic below runs in SIMD registers (SSE or NEON) without hand-written intrinsics.
+  using PatchArray = Eigen::Array<float, kP, kP>;
   // Gradients of the reference patch interior and the 3x3 Gauss-Newton matrix (fixed).
-  float gx[kAlignPatch * kAlignPatch], gy[kAlignPatch * kAlignPatch];
+  PatchArray gx, gy, intensity;
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  for (int y = 0, k = 0; y < kAlignPatch; ++y) {
-    for (int x = 0; x < kAlignPatch; ++x, ++k) {
+  for (int y = 0; y < kP; ++y) {
+    for (int x = 0; x < kP; ++x) {
       const int i = (y + 1) * kB + x + 1;
-      gx[k] = 0.5f * (ref[i + 1] - ref[i - 1]);
-      gy[k] = 0.5f * (ref[i + kB] - ref[i - kB]);
-      const Eigen::Vector3d J(gx[k], gy[k], 1.0);
+      gx(x, y) = 0.5f * (ref[i + 1] - ref[i - 1]);
+      gy(x, y) = 0.5f * (ref[i + kB] - ref[i - kB]);
+      intensity(x, y) = ref[i];
+      const Eigen::Vector3d J(gx(x, y), gy(x, y), 1.0);
       H += J * J.transpose();
     }
   }
   const Eigen::LDLT<Eigen::Matrix3d> solver(H);
   if (solver.info() != Eigen::Success || std::abs(H.determinant()) < 1e-3) return false;
+  const int stride = static_cast<int>(img.step.p[0]);
   double u = px->x(), v = px->y(), offset = 0.0;
+  Eigen::Array<float, kP + 1, kP + 1> block;  // the pixels the bilinear lookups touch
   for (int it = 0; it < max_iterations; ++it) {
     if (u < kAlignHalf + 1 || v < kAlignHalf + 1 || u >= img.cols - kAlignHalf - 2 ||
         v >= img.rows - kAlignHalf - 2)
       return false;
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
-    for (int y = 0, k = 0; y < kAlignPatch; ++y) {
-      for (int x = 0; x < kAlignPatch; ++x, ++k) {
-        const double r = interpolate(img, static_cast<float>(u - kAlignHalf + x),
-                                     static_cast<float>(v - kAlignHalf + y)) -
-                         ref[(y + 1) * kB + x + 1] - offset;
-        b += r * Eigen::Vector3d(gx[k], gy[k], 1.0);
-      }
+    // Every pixel of the patch has the same sub-pixel offset: one set of bilinear weights (SVO).
+    const double left = u - kAlignHalf, top = v - kAlignHalf;
+    const int x0 = static_cast<int>(left), y0 = static_cast<int>(top);
+    const float a = static_cast<float>(left - x0), c = static_cast<float>(top - y0);
+    for (int y = 0; y <= kP; ++y) {
+      const unsigned char* p = img.data + (y0 + y) * stride + x0;
+      for (int x = 0; x <= kP; ++x) block(x, y) = p[x];
     }
+    const PatchArray r = (1.f - a) * (1.f - c) * block.topLeftCorner<kP, kP>() +
+                         a * (1.f - c) * block.bottomLeftCorner<kP, kP>() +
+                         (1.f - a) * c * block.topRightCorner<kP, kP>() +
+                         a * c * block.bottomRightCorner<kP, kP>() - intensity -
+                         static_cast<float>(offset);
+    const Eigen::Vector3d b((r * gx).sum(), (r * gy).sum(), r.sum());
     const Eigen::Vector3d d = solver.solve(b);
     if (!d.allFinite()) return false;
     u -= d.x();
