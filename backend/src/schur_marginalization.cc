@@ -206,7 +206,7 @@ std::shared_ptr<MarginalizationPrior> marginalizeBySchurComplement(
           addCoupling(&v, offset_of.at(fkeys[a]), lin.jacobians[a].transpose() * Js);
     }
     // The factor's other Jacobians side by side: one product for its whole block of H (a
-    // prior over the window is ~100 x 150; block by block it was a hundred small products).
+    // prior over the window is ~100 x 150: block by block that is a hundred small products).
     std::vector<std::pair<int, int>> columns;  // (offset in H, width), in the factor's key order
     int width = 0;
     for (std::size_t a = 0; a < fkeys.size(); ++a) {

@@ -206,7 +206,7 @@ void VioBackend::addVisualFactors(std::uint64_t k, const FrameObservations& fram
   // New landmarks within the budget, longest tracks first (best parallax, most constraints).
   int in_window = 0;
   for (const auto& kv : tracks_) in_window += kv.second.in_graph ? 1 : 0;
-  std::vector<std::pair<std::size_t, Track*>> candidates;  // (track length, track) in id order
+  std::vector<std::pair<std::size_t, Track*>> candidates;  // (track length, track), frame order
   candidates.reserve(pending.size());
   for (int id : pending) candidates.emplace_back(tracks_[id].obs.size(), &tracks_[id]);
   std::vector<std::size_t> order(pending.size());
