@@ -112,9 +112,9 @@ std::optional<Vec3> VioBackend::landmarkPosition(int landmark_id) const {
   return est.vec3(L(landmark_id));
 }
 
-std::vector<NavState> VioBackend::windowStates() const {
-  std::vector<NavState> out;
-  for (const auto& slot : states_) out.push_back(stateAt(slot.index, slot.t));
+std::vector<VioBackend::WindowPose> VioBackend::windowPoses() const {
+  std::vector<WindowPose> out;
+  for (const auto& slot : states_) out.push_back({slot.t, smoother_.estimate().pose(X(slot.index))});
   return out;
 }
 
@@ -166,8 +166,12 @@ FrameResult VioBackend::addFrame(const FrameObservations& frame) {
   const std::uint64_t oldest = states_.front().index;
   const Pose oldest_before = smoother_.estimate().pose(X(oldest));
   auto solved = smoother_.optimize();
+  result.solves_usable = solved.usable;
   result.outliers_removed = rejectOutliers();
-  if (result.outliers_removed > 0) solved = smoother_.optimize();
+  if (result.outliers_removed > 0) {
+    solved = smoother_.optimize();
+    result.solves_usable = result.solves_usable && solved.usable;
+  }
   result.solver_iterations = solved.iterations;
   result.solve_time_s = solved.solve_time_s;
   result.solve_converged = solved.converged;
@@ -193,7 +197,15 @@ void VioBackend::addVisualFactors(std::uint64_t k, const FrameObservations& fram
     Track& track = tracks_[f.landmark_id];
     track.obs[k] = f;
     if (track.in_graph) {
-      graph.add(reprojectionFactor(k, f));
+      // An observation the estimate cannot project (the landmark behind the camera) would fail
+      // the whole solve: it is an outlier before the solve, as rejectOutliers would drop it after.
+      FactorPtr factor = reprojectionFactor(k, f);
+      Eigen::VectorXd r;
+      if (!factor->whitenedError(smoother_.estimate(), &r)) {
+        track.obs.erase(k);
+        continue;
+      }
+      graph.add(std::move(factor));
       ids.push_back(f.landmark_id);
     } else {
       pending.push_back(f.landmark_id);
@@ -331,6 +343,17 @@ void VioBackend::maintainWindow() {
   };
   while (old_keyframes() > options_.num_keyframes)
     marginalizeState(states_.front().index, /*keep_landmark_information=*/true);
+  for (std::size_t n = 0; n + recent < states_.size(); ++n)
+    if (states_[n].motion) keepOnlyPose(&states_[n]);
+}
+
+void VioBackend::keepOnlyPose(StateSlot* slot) {
+  // Only IMU and dynamics factors touch these keys: the prior gains the link between this pose
+  // and the next state's motion, no landmark joins it.
+  std::set<Key> motion{V(slot->index), B(slot->index)};
+  for (Key key : dynamics_->stateKeys(slot->index)) motion.insert(key);
+  smoother_.marginalize(motion);
+  slot->motion = false;
 }
 
 void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_information) {
@@ -338,8 +361,13 @@ void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_inform
   // with it (their observations from the other keyframes go into the prior); landmarks still
   // tracked stay and only lose this observation (as OKVIS does). Other observations by the
   // leaving state are dropped too. So the prior links old keyframes only and stays small.
-  std::set<Key> leaving{X(index), V(index), B(index)};
-  for (Key key : dynamics_->stateKeys(index)) leaving.insert(key);
+  const auto slot = std::find_if(states_.begin(), states_.end(),
+                                 [&](const StateSlot& s) { return s.index == index; });
+  std::set<Key> leaving{X(index)};
+  if (slot->motion) {
+    leaving.insert({V(index), B(index)});
+    for (Key key : dynamics_->stateKeys(index)) leaving.insert(key);
+  }
   const std::size_t recent = std::min(states_.size(), static_cast<std::size_t>(options_.num_recent));
   const std::uint64_t first_recent = states_[states_.size() - recent].index;
   std::set<std::uint64_t> keyframes;
@@ -384,8 +412,7 @@ void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_inform
   }
   if (!dead_landmarks.empty()) smoother_.removeVariables(dead_landmarks);
   smoother_.marginalize(leaving);
-  states_.erase(std::find_if(states_.begin(), states_.end(),
-                             [&](const StateSlot& s) { return s.index == index; }));
+  states_.erase(slot);
   if (last_keyframe_ == index) last_keyframe_.reset();
 }
 

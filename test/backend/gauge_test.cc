@@ -214,11 +214,11 @@ GaugeMoves oldestStateMoves(int max_iterations) {
       backend.initialize(groundTruthState(seq, frame.t));
       continue;
     }
-    const std::vector<NavState> before = backend.windowStates();
+    const std::vector<VioBackend::WindowPose> before = backend.windowPoses();
     const FrameResult r = backend.addFrame(frame);
-    const std::vector<NavState> after = backend.windowStates();
+    const std::vector<VioBackend::WindowPose> after = backend.windowPoses();
     for (std::size_t i = 1; i < before.size(); ++i)
-      for (const NavState& a : after)
+      for (const VioBackend::WindowPose& a : after)
         if (a.t == before[i].t) m.max_relative_move = std::max(m.max_relative_move, (a.T_WB.p - before[i].T_WB.p).norm());
     if (after.front().t != before.front().t) continue;  // the oldest left after the solve
     const double move = (after.front().T_WB.p - before.front().T_WB.p).norm();

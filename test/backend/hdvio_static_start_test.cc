@@ -86,16 +86,16 @@ double attitudeDriftDeg(VioMethod method) {
   const Quat gt0 = groundTruthState(seq, t0).T_WB.q;
   // The start's own rotation error (its yaw gauge and tilt error) is taken out.
   const Quat dyaw = start.T_WB.q * gt0.conjugate();
-  const auto error = [&](const NavState& s) {
-    return (s.T_WB.q * (dyaw * groundTruthState(seq, s.t).T_WB.q).conjugate()).normalized();
+  const auto error = [&](Timestamp t, const Pose& T_WB) {
+    return (T_WB.q * (dyaw * groundTruthState(seq, t).T_WB.q).conjugate()).normalized();
   };
-  const Quat e0 = error(start);
+  const Quat e0 = error(start.t, start.T_WB);
   double drift = 0.0;
   for (int k = 1; k <= 6; ++k) {  // 0.3 s of frames without landmarks, at 20 Hz
     const FrameResult r = backend.addFrame(FrameObservations{t0 + fromSeconds(0.05 * k), {}});
     EXPECT_TRUE(r.processed);
-    for (const NavState& s : backend.windowStates())
-      drift = std::max(drift, error(s).angularDistance(e0) * 180.0 / M_PI);
+    for (const VioBackend::WindowPose& s : backend.windowPoses())
+      drift = std::max(drift, error(s.t, s.T_WB).angularDistance(e0) * 180.0 / M_PI);
   }
   return drift;
 }

@@ -19,10 +19,10 @@ Pose predictPose(const NavState& s, const std::vector<ImuSample>& imu, Timestamp
 frontend::BackendEstimate backendEstimate(const VioBackend& backend,
                                           const frontend::SemiDirectFrontend& fe) {
   frontend::BackendEstimate est;
-  const std::vector<NavState> window = backend.windowStates();
+  const std::vector<VioBackend::WindowPose> window = backend.windowPoses();
   for (const auto& kf : fe.map().keyframes) {
     const auto it = std::find_if(window.begin(), window.end(),
-                                 [&](const NavState& s) { return s.t == kf->t; });
+                                 [&](const VioBackend::WindowPose& s) { return s.t == kf->t; });
     if (it != window.end()) est.keyframe_T_WB[kf->id] = it->T_WB;
   }
   for (const auto& [id, lm] : fe.map().landmarks)

@@ -3,7 +3,9 @@
 // thrust buffers into states, factors and initial values for the sliding-window smoother, in
 // one of four modes (vio, vimo, vid, hdvio) that differ only by the dynamics model made at
 // construction (dynamics_model.h). The window holds the K most recent states and up to L older
-// keyframes; leaving states are Schur-complemented into a prior.
+// keyframes; leaving states are Schur-complemented into a prior. An old keyframe keeps only its
+// pose (as in OKVIS): its velocity, biases and model states go into the prior when it leaves the
+// recent states, so the window solve's reduced system is 6 per old keyframe, not 15.
 #include <deque>
 #include <map>
 #include <memory>
@@ -28,6 +30,9 @@ struct FrameResult {
   int outliers_removed = 0;
   int solver_iterations = 0;
   bool solve_converged = true;  // false: the last solve stopped at max_iterations
+  // false: a solve of this frame failed (a residual could not be evaluated at the start) and
+  // left the window as it was
+  bool solves_usable = true;
   double solve_time_s = 0.0;
   double cpu_time_s = 0.0;           // this thread's CPU time in addFrame (whole update)
   double marginalization_cpu_s = 0.0;  // part of cpu_time_s spent in window maintenance
@@ -58,7 +63,12 @@ class VioBackend {
   FrameResult addFrame(const FrameObservations& frame);
 
   NavState latestState() const;
-  std::vector<NavState> windowStates() const;
+  struct WindowPose {
+    Timestamp t;
+    Pose T_WB;
+  };
+  // Every pose in the window, oldest first (old keyframes hold no other state).
+  std::vector<WindowPose> windowPoses() const;
   // The smoother's estimate of a landmark (world frame); nullopt when it is not in the window.
   std::optional<Vec3> landmarkPosition(int landmark_id) const;
   const SlidingWindowSmoother& smoother() const { return smoother_; }
@@ -68,6 +78,7 @@ class VioBackend {
     std::uint64_t index;
     Timestamp t;
     bool keyframe;
+    bool motion = true;  // velocity, biases and the model's states are still variables
   };
   struct Track {
     std::map<std::uint64_t, FeatureObservation> obs;  // state index -> observation
@@ -90,6 +101,8 @@ class VioBackend {
   int rejectOutliers();
   void holdGauge(std::uint64_t index, const Pose& T_WB_before);
   void maintainWindow();
+  // Marginalizes the velocity, biases and model states of the slot, keeping its pose.
+  void keepOnlyPose(StateSlot* slot);
   void marginalizeState(std::uint64_t index, bool keep_landmark_information);
   Pose cameraPose(std::uint64_t index) const;
 
