@@ -343,17 +343,6 @@ void VioBackend::maintainWindow() {
   };
   while (old_keyframes() > options_.num_keyframes)
     marginalizeState(states_.front().index, /*keep_landmark_information=*/true);
-  for (std::size_t n = 0; n + recent < states_.size(); ++n)
-    if (states_[n].motion) keepOnlyPose(&states_[n]);
-}
-
-void VioBackend::keepOnlyPose(StateSlot* slot) {
-  // Only IMU and dynamics factors touch these keys: the prior gains the link between this pose
-  // and the next state's motion, no landmark joins it.
-  std::set<Key> motion{V(slot->index), B(slot->index)};
-  for (Key key : dynamics_->stateKeys(slot->index)) motion.insert(key);
-  smoother_.marginalize(motion);
-  slot->motion = false;
 }
 
 void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_information) {
@@ -361,13 +350,8 @@ void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_inform
   // with it (their observations from the other keyframes go into the prior); landmarks still
   // tracked stay and only lose this observation (as OKVIS does). Other observations by the
   // leaving state are dropped too. So the prior links old keyframes only and stays small.
-  const auto slot = std::find_if(states_.begin(), states_.end(),
-                                 [&](const StateSlot& s) { return s.index == index; });
-  std::set<Key> leaving{X(index)};
-  if (slot->motion) {
-    leaving.insert({V(index), B(index)});
-    for (Key key : dynamics_->stateKeys(index)) leaving.insert(key);
-  }
+  std::set<Key> leaving{X(index), V(index), B(index)};
+  for (Key key : dynamics_->stateKeys(index)) leaving.insert(key);
   const std::size_t recent = std::min(states_.size(), static_cast<std::size_t>(options_.num_recent));
   const std::uint64_t first_recent = states_[states_.size() - recent].index;
   std::set<std::uint64_t> keyframes;
@@ -412,7 +396,8 @@ void VioBackend::marginalizeState(std::uint64_t index, bool keep_landmark_inform
   }
   if (!dead_landmarks.empty()) smoother_.removeVariables(dead_landmarks);
   smoother_.marginalize(leaving);
-  states_.erase(slot);
+  states_.erase(std::find_if(states_.begin(), states_.end(),
+                             [&](const StateSlot& s) { return s.index == index; }));
   if (last_keyframe_ == index) last_keyframe_.reset();
 }
 

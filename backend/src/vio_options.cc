@@ -72,7 +72,7 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
   VioBackendOptions o;
   o.method = method;
   c.readInRange("num_keyframes", &o.num_keyframes, 2, 100);
-  c.readInRange("num_recent", &o.num_recent, 2, 100);
+  c.readInRange("num_recent", &o.num_recent, 1, 100);
   c.readInRange("keyframe_parallax_px", &o.keyframe_parallax_px, 0.0, 1000.0);
   c.readInRange("keyframe_min_tracked_ratio", &o.keyframe_min_tracked_ratio, 0.0, 1.0);
   c.readInRange("pixel_sigma", &o.pixel_sigma, 1e-3, 100.0);

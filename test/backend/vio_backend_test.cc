@@ -9,9 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "hdvio/backend/vio_backend.h"
 #include "hdvio/core/config.h"
-#include "hdvio/core/key.h"
 #include "hdvio/sim/simulator.h"
 
 namespace hdvio {
@@ -124,37 +122,6 @@ TEST(VioBackend, StaticInitializationOnHoverStart) {
               e.position_rmse, e.velocity_rmse);
   EXPECT_LT(e.position_rmse, 0.1);
   EXPECT_LT(e.velocity_rmse, 0.1);
-}
-
-// Old keyframes keep only their pose (OKVIS): velocity and biases are variables of the recent
-// states alone, while the window still holds the old keyframes' poses.
-TEST(VioBackend, OldKeyframesKeepOnlyTheirPose) {
-  const Sequence& seq = flight().sequence;
-  const VioBackendOptions options = defaultVioBackendOptions(VioMethod::kVio);
-  VioBackend backend(options, CameraModel::fromCalibration(*seq.camera), seq.camera->T_BS);
-  std::size_t next_imu = 0;
-  std::size_t most_poses = 0;
-  for (const auto& frame : framesFromTracks(seq, 0.5, 1)) {
-    while (next_imu < seq.imu.size() && seq.imu[next_imu].t <= frame.t)
-      backend.addImu(seq.imu[next_imu++]);
-    if (!backend.initialized()) {
-      backend.initialize(groundTruthState(seq, frame.t));
-      continue;
-    }
-    ASSERT_TRUE(backend.addFrame(frame).processed);
-    std::size_t poses = 0, velocities = 0, biases = 0;
-    for (const Key key : backend.smoother().estimate().keys()) {
-      poses += key.letter() == symbols::X(0).letter();
-      velocities += key.letter() == symbols::V(0).letter();
-      biases += key.letter() == symbols::B(0).letter();
-    }
-    EXPECT_LE(velocities, static_cast<std::size_t>(options.num_recent));
-    EXPECT_EQ(biases, velocities);
-    EXPECT_LE(poses, static_cast<std::size_t>(options.num_recent + options.num_keyframes));
-    EXPECT_EQ(poses, backend.windowPoses().size());
-    most_poses = std::max(most_poses, poses);
-  }
-  EXPECT_GT(most_poses, static_cast<std::size_t>(options.num_recent + 3));
 }
 
 // RMSE of the estimated external force (world) against the simulator's drag + disturbance

@@ -3,9 +3,7 @@
 // thrust buffers into states, factors and initial values for the sliding-window smoother, in
 // one of four modes (vio, vimo, vid, hdvio) that differ only by the dynamics model made at
 // construction (dynamics_model.h). The window holds the K most recent states and up to L older
-// keyframes; leaving states are Schur-complemented into a prior. An old keyframe keeps only its
-// pose (as in OKVIS): its velocity, biases and model states go into the prior when it leaves the
-// recent states, so the window solve's reduced system is 6 per old keyframe, not 15.
+// keyframes; leaving states are Schur-complemented into a prior.
 #include <deque>
 #include <map>
 #include <memory>
@@ -67,7 +65,7 @@ class VioBackend {
     Timestamp t;
     Pose T_WB;
   };
-  // Every pose in the window, oldest first (old keyframes hold no other state).
+  // Every pose in the window, oldest first.
   std::vector<WindowPose> windowPoses() const;
   // The smoother's estimate of a landmark (world frame); nullopt when it is not in the window.
   std::optional<Vec3> landmarkPosition(int landmark_id) const;
@@ -78,7 +76,6 @@ class VioBackend {
     std::uint64_t index;
     Timestamp t;
     bool keyframe;
-    bool motion = true;  // velocity, biases and the model's states are still variables
   };
   struct Track {
     std::map<std::uint64_t, FeatureObservation> obs;  // state index -> observation
@@ -101,8 +98,6 @@ class VioBackend {
   int rejectOutliers();
   void holdGauge(std::uint64_t index, const Pose& T_WB_before);
   void maintainWindow();
-  // Marginalizes the velocity, biases and model states of the slot, keeping its pose.
-  void keepOnlyPose(StateSlot* slot);
   void marginalizeState(std::uint64_t index, bool keep_landmark_information);
   Pose cameraPose(std::uint64_t index) const;
 

@@ -34,7 +34,7 @@ enum class LandmarkMarginalization { kAll, kKeyframes, kUntracked };
 struct VioBackendOptions {
   VioMethod method = VioMethod::kVio;
   int num_keyframes = 10;    // L
-  int num_recent = 5;        // K most recent states (>= 2), the ones with velocity and biases
+  int num_recent = 5;        // K most recent states
   // A frame becomes a keyframe when the median parallax to the last keyframe exceeds this
   // (pixels) or when it observes too few of the last keyframe's landmarks.
   double keyframe_parallax_px = 12.0;
