@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "hdvio/bench/aggregate.h"
+#include "hdvio/bench/compare.h"
 #include "hdvio/bench/matrix.h"
 #include "hdvio/bench/process_pool.h"
 #include "hdvio/core/error.h"
@@ -33,6 +34,8 @@ DEFINE_bool(aggregate_only, false, "run nothing; evaluate the runs present and w
 DEFINE_string(hdvio_run, "", "hdvio_run binary (default: next to hdvio_bench, else the build tree's)");
 DEFINE_string(hdvio_sim, "", "hdvio_sim binary (default: next to hdvio_bench, else the build tree's)");
 DEFINE_string(hdvio_image_noise, "", "hdvio_image_noise binary, for peers over noise seeds (default: next to hdvio_bench, else the build tree's)");
+DEFINE_string(compare, "", "run nothing; compare the runs of this earlier output folder with --out's, seed means per experiment and sequence");
+DEFINE_string(metric, "ate_t_m", "with --compare: a numeric field of results.json's runs (ate_t_m, rpe_t_m, ms_per_image_mean, ...)");
 DEFINE_string(python, "/usr/bin/python3", "python interpreter for the figures and for indsim sequences");
 
 namespace hdvio::bench {
@@ -264,7 +267,16 @@ void runJobs(const Matrix& matrix, const std::vector<RunJob>& jobs, const std::s
   });
 }
 
+int compareMain() {
+  if (FLAGS_out.empty()) throw InputError("--out", 0, "--compare needs --out: the later output folder");
+  const Comparison c = compareRuns(readRunValues(FLAGS_compare, FLAGS_metric),
+                                   readRunValues(FLAGS_out, FLAGS_metric));
+  std::cout << comparisonMarkdown(c, FLAGS_metric, FLAGS_compare, FLAGS_out) << std::flush;
+  return 0;
+}
+
 int benchMain() {
+  if (!FLAGS_compare.empty()) return compareMain();
   if (FLAGS_matrix.empty() || FLAGS_out.empty())
     throw InputError("", 0, "usage: hdvio_bench --matrix <yaml> --out <dir> [--jobs N] "
                             "[--emit-jobs <file>|-] [--only <substring>] [--force]");
@@ -322,6 +334,7 @@ int main(int argc, char** argv) {
   }
   hdvio::parseToolFlags(&argc, &argv, __FILE__,
       "usage: hdvio_bench --matrix <yaml> --out <dir> [--jobs N] [--emit-jobs <file>|-] [--only <substring>]\n"
+      "       hdvio_bench --compare <earlier out dir> --out <dir> [--metric ate_t_m]\n"
       "runs a matrix of experiments x sequences (x seeds) and evaluates it into one table\n"
       "example: hdvio_bench --matrix config/bench/ci_tiny.yaml --out /tmp/bench_tiny --jobs 2");
   return hdvio::runTool(hdvio::bench::benchMain);
