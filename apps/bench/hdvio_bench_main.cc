@@ -269,6 +269,8 @@ void runJobs(const Matrix& matrix, const std::vector<RunJob>& jobs, const std::s
 
 int compareMain() {
   if (FLAGS_out.empty()) throw InputError("--out", 0, "--compare needs --out: the later output folder");
+  if (!FLAGS_matrix.empty())
+    throw InputError("--matrix", 0, "--compare runs nothing: run the matrix first, then compare");
   const Comparison c = compareRuns(readRunValues(FLAGS_compare, FLAGS_metric),
                                    readRunValues(FLAGS_out, FLAGS_metric));
   std::cout << comparisonMarkdown(c, FLAGS_metric, FLAGS_compare, FLAGS_out) << std::flush;

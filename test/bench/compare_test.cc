@@ -74,6 +74,10 @@ TEST(BenchCompare, BadInputIsOneErrorWithTheFile) {
   auto o = hdvio::test::bench("--compare " + missing.string() + " --out " + good.string());
   EXPECT_EQ(o.exit_code, 2);
   EXPECT_NE(o.output.find((missing / "results.json").string()), std::string::npos) << o.output;
+  o = hdvio::test::bench("--compare " + good.string() + " --out " + good.string() +
+                         " --matrix config/bench/ci_tiny.yaml");
+  EXPECT_EQ(o.exit_code, 2);  // comparing runs nothing
+  EXPECT_NE(o.output.find("--matrix"), std::string::npos) << o.output;
   const fs::path broken = hdvio::test::freshTempDir("hdvio_compare_broken");
   std::ofstream(broken / "results.json") << "{\"runs\": [";
   o = hdvio::test::bench("--compare " + good.string() + " --out " + broken.string());
