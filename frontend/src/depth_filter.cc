@@ -188,6 +188,7 @@ std::vector<Seed> DepthFilter::update(const Frame& frame, std::vector<Match>* ma
     const double tau_inverse = 0.5 * (1.0 / std::max(1e-7, z - tau) - 1.0 / (z + tau));
     if (matches && s.track_id >= 0) matches->push_back({s.track_id, px_cur, level, s.updates});
     updateSeed(1.0 / z, tau_inverse * tau_inverse, &s);
+    s.measured_depth = z;
     ++s.updates;
     if (!std::isfinite(s.mu) || !std::isfinite(s.sigma2) || s.mu <= 0.0) {
       it = seeds_.erase(it);

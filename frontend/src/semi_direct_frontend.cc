@@ -315,8 +315,11 @@ void SemiDirectFrontend::updateDepthFilter(const Frame& frame) {
   for (const Seed& s : depth_filter_.seeds()) {
     if (s.landmark_id < 0) continue;
     auto it = map_.landmarks.find(s.landmark_id);
+    // After one match the mixture mean sits between init_depth and the match; the match's
+    // own depth is where the landmark reprojects onto it.
+    const double depth = s.updates == 1 ? s.measured_depth : s.depth();
     if (it != map_.landmarks.end())
-      it->second->p_w = s.keyframe->T_cw.inverse() * (s.feature.f * s.depth());
+      it->second->p_w = s.keyframe->T_cw.inverse() * (s.feature.f * depth);
   }
   for (const Seed& s : converged) {
     const Vec3 p_w = s.keyframe->T_cw.inverse() * (s.feature.f * s.depth());

@@ -35,6 +35,7 @@ struct Seed {
   double z_range = 0.0;    // inverse of the smallest plausible depth
   int keyframe_age = 0;
   int updates = 0;
+  double measured_depth = 0.0;  // depth triangulated by the last match (0: none yet)
   int landmark_id = -1;    // provisional landmark that follows this seed (initialization)
   int track_id = -1;       // landmark id its matches are reported under before it converges
 
