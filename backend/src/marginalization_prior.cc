@@ -65,6 +65,7 @@ MarginalizationPrior::MarginalizationPrior(const std::vector<Key>& keys, const V
   }
   if (offset != J0_.cols() || J0_.rows() != r0_.size())
     throw std::invalid_argument("MarginalizationPrior: J0 does not match the keys' tangent sizes");
+  information_.noalias() = J0_.transpose() * J0_;
   cost_ = std::make_unique<Cost>(this);
 }
 

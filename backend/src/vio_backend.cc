@@ -22,6 +22,7 @@ SmootherOptions smootherOptions(const VioBackendOptions& o) {
   s.optimizer.max_iterations = o.max_iterations;
   s.optimizer.max_time_s = o.max_solver_time_s;
   s.optimizer.linear_solver = o.linear_solver;
+  s.optimizer.optimizer = o.optimizer;
   if (o.landmarks_first) s.optimizer.eliminate_first = {L(0).letter()};
   s.optimizer.function_tolerance = o.function_tolerance;
   s.optimizer.initial_trust_region_radius = o.initial_trust_region_radius;

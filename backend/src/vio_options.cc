@@ -100,6 +100,9 @@ VioBackendOptions loadVioBackendOptions(const ConfigReader& c, VioMethod method)
               {"sparse_schur", ceres::SPARSE_SCHUR},
               {"sparse_normal_cholesky", ceres::SPARSE_NORMAL_CHOLESKY}});
   c.readOptional("landmarks_first", &o.landmarks_first);
+  c.readEnum("optimizer", &o.optimizer,
+             {{"ceres", OptimizerOptions::Optimizer::kCeres},
+              {"schur_lm", OptimizerOptions::Optimizer::kSchurLm}});
   c.readInRange("max_solver_time_s", &o.max_solver_time_s, 1e-4, 1e4);
   c.readInRange("gyro_noise_density", &o.imu.gyro_noise_density, 1e-12, 1.0);
   c.readInRange("accel_noise_density", &o.imu.accel_noise_density, 1e-12, 10.0);

@@ -11,6 +11,8 @@
 
 #include <ceres/ordered_groups.h>
 
+#include "hdvio/core/schur_lm.h"
+
 namespace hdvio {
 
 ceres::Problem::Options problemOptions() {
@@ -150,6 +152,8 @@ void addToProblem(const FactorGraph& graph, Values* values, const std::set<Key>&
 
 OptimizeResult optimize(const FactorGraph& graph, Values* values,
                         const OptimizerOptions& options) {
+  if (options.optimizer == OptimizerOptions::Optimizer::kSchurLm)
+    return optimizeSchurLm(graph, values, options);
   ceres::Problem::Options problem_options = problemOptions();
   problem_options.disable_all_safety_checks = true;  // addFactorsOnBlocks checks what they would
   ceres::Problem problem(problem_options);

@@ -50,4 +50,34 @@ bool Factor::linearize(const Values& values, Linearization* out) const {
   return true;
 }
 
+bool Factor::evaluateTangent(const double* const* x, const ceres::Manifold* const* manifolds,
+                             double* residual, double** tangent_jacobians) const {
+  using RowMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const ceres::CostFunction& cost = *costFunction();
+  const std::size_t n = keys_.size();
+  if (!tangent_jacobians) return cost.Evaluate(x, residual, nullptr);
+  std::vector<RowMatX> ambient(n);
+  std::vector<double*> ptrs(n, nullptr);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!tangent_jacobians[i]) continue;
+    ambient[i].resize(dim(), cost.parameter_block_sizes()[i]);
+    ptrs[i] = ambient[i].data();
+  }
+  if (!cost.Evaluate(x, residual, ptrs.data())) return false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!tangent_jacobians[i]) continue;
+    const ceres::Manifold* m = manifolds[i];
+    const int t = m ? m->TangentSize() : static_cast<int>(ambient[i].cols());
+    Eigen::Map<RowMatX> out(tangent_jacobians[i], dim(), t);
+    if (!m) {
+      out = ambient[i];
+      continue;
+    }
+    RowMatX plus(m->AmbientSize(), t);
+    m->PlusJacobian(x[i], plus.data());
+    out.noalias() = ambient[i] * plus;
+  }
+  return true;
+}
+
 }  // namespace hdvio

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "between_pose_factor.h"
+#include "hdvio/core/ceres_bridge.h"
 #include "hdvio/core/numerical_jacobian.h"
 
 namespace hdvio {
@@ -105,6 +106,47 @@ TEST(SchurMarginalization, FreeVariableLeavesNoInformation) {
   chain.add(std::make_shared<testing::BetweenPoseFactor>(X(0), X(1), randomPose(rng),
                                                          NoiseModel::isotropic(6, 0.1)));
   EXPECT_EQ(marginalizeBySchurComplement(chain, values, {X(0)}), nullptr);
+}
+
+// The own solver (schur_lm.h) takes a prior's Jacobian and J^T J as constants instead of
+// evaluating them: that is exact (the tangent Jacobian away from x0 is J0) and it solves the
+// window Ceres solves.
+TEST(SchurMarginalization, PriorJacobianIsConstantAndTheOwnSolverAgreesWithCeres) {
+  std::mt19937 rng(7);
+  Loop loop = makeLoop(true, rng);
+  const auto prior = marginalizeBySchurComplement(loop.graph, loop.values, {X(0), X(1)});
+  ASSERT_TRUE(prior);
+  const Factor::ConstantJacobian c = prior->constantJacobian();
+  ASSERT_TRUE(c.J && c.JtJ);
+  EXPECT_LT((*c.JtJ - c.J->transpose() * *c.J).norm(), 1e-12 * c.JtJ->norm());
+  Values moved = loop.values;
+  for (Key k : prior->keys()) moved.update(k, loop.values.plus(k, 0.2 * Eigen::VectorXd::Random(6)));
+  Linearization lin;
+  ASSERT_TRUE(prior->linearize(moved, &lin));
+  for (std::size_t i = 0; i < prior->keys().size(); ++i)
+    EXPECT_LT((lin.jacobians[i] - c.J->middleCols(6 * static_cast<int>(i), 6)).norm(), 1e-9 * c.J->norm());
+
+  // What is left of the loop after x0 and x1 went into the prior, solved from a moved start.
+  FactorGraph rest;
+  rest.add(prior);
+  for (const auto& f : loop.graph) {
+    bool keeps = true;
+    for (Key k : f->keys()) keeps = keeps && k != X(0) && k != X(1);
+    if (keeps) rest.add(f);
+  }
+  Values start = moved.subset(prior->keys());
+  OptimizerOptions o;
+  o.linear_solver = ceres::DENSE_SCHUR;
+  o.max_iterations = 100;
+  o.function_tolerance = 1e-14;
+  Values by_ceres = start, own = start;
+  ASSERT_TRUE(optimize(rest, &by_ceres, o).usable);
+  o.optimizer = OptimizerOptions::Optimizer::kSchurLm;
+  ASSERT_TRUE(optimize(rest, &own, o).usable);
+  for (Key k : prior->keys()) {
+    EXPECT_LT(own.minus(k, by_ceres).cwiseAbs().maxCoeff(), 1e-7) << k.str();
+    EXPECT_GT(own.minus(k, start).norm(), 1e-2) << k.str();  // the solve moved it
+  }
 }
 
 }  // namespace

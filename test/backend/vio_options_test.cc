@@ -39,6 +39,20 @@ TEST(VioOptions, ImuNoiseComesFromTheCalibrationUnlessTheExperimentGivesIt) {
   EXPECT_EQ(eff["accel_random_walk"].as<double>(), default_accel_walk);
 }
 
+// The window's solver is chosen once, by name; a name it does not know is an input error.
+TEST(VioOptions, TheOptimizerIsChosenByName) {
+  EXPECT_EQ(loadVioBackendOptions(ConfigReader::fromString("backend: {}\n").section("backend"), VioMethod::kVio)
+                .optimizer,
+            OptimizerOptions::Optimizer::kCeres);
+  EXPECT_EQ(loadVioBackendOptions(ConfigReader::fromString("backend: {optimizer: schur_lm}\n").section("backend"),
+                                  VioMethod::kVio)
+                .optimizer,
+            OptimizerOptions::Optimizer::kSchurLm);
+  EXPECT_THROW(loadVioBackendOptions(ConfigReader::fromString("backend: {optimizer: gtsam}\n").section("backend"),
+                                     VioMethod::kVio),
+               InputError);
+}
+
 // The residual-force model's error walk is the least walk of the external force: it raises a
 // lower floor (and the adaptive walk's ceiling if need be), never lowers a higher one.
 TEST(VioOptions, TheModelsErrorWalkIsTheLeastForceWalk) {

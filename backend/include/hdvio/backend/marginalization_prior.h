@@ -22,6 +22,9 @@ class MarginalizationPrior : public Factor {
 
   ceres::CostFunction* costFunction() const override { return cost_.get(); }
   const Eigen::MatrixXd& jacobian() const { return J0_; }
+  // The tangent Jacobian is J0 at every point: r = r0 + J0 (x - x0), the difference in the
+  // manifolds' tangent spaces (Ceres' MinusJacobian x PlusJacobian is the identity).
+  ConstantJacobian constantJacobian() const override { return {&J0_, &information_}; }
   const Eigen::VectorXd& residualAtLinearizationPoint() const { return r0_; }
   const Values& linearizationPoint() const { return x0_; }
   // The same prior about another linearization point (a change of gauge moves it with the
@@ -36,6 +39,7 @@ class MarginalizationPrior : public Factor {
   std::vector<int> offsets_;  // tangent column offset of each key in J0
   Eigen::MatrixXd J0_;
   Eigen::VectorXd r0_;
+  Eigen::MatrixXd information_;  // J0^T J0
   std::unique_ptr<ceres::CostFunction> cost_;
 };
 

@@ -6,6 +6,7 @@
 #include <ceres/types.h>
 
 #include "hdvio/backend/adaptive_force_walk.h"
+#include "hdvio/core/ceres_bridge.h"
 #include "hdvio/core/config.h"
 #include "hdvio/core/model_envelope.h"
 #include "hdvio/core/sequence.h"
@@ -66,6 +67,9 @@ struct VioBackendOptions {
   // Schur solvers eliminate exactly the landmarks (fixed 2x3x6 blocks, Ceres' specialized
   // eliminator); false lets Ceres choose the independent set itself.
   bool landmarks_first = true;
+  // kCeres: ceres::Solve with linear_solver. kSchurLm: the project's own Levenberg-Marquardt with
+  // Ceres' damping rules, landmarks Schur-complemented out (core/schur_lm.h).
+  OptimizerOptions::Optimizer optimizer = OptimizerOptions::Optimizer::kCeres;
   double max_solver_time_s = 1e3;  // wall-clock budget; large by default so runs are deterministic
 
   ImuNoiseParams imu;

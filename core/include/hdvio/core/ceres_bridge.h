@@ -11,6 +11,10 @@
 namespace hdvio {
 
 struct OptimizerOptions {
+  // kCeres: ceres::Solve. kSchurLm: hdvio's own Levenberg-Marquardt with the eliminate_first
+  // variables Schur-complemented out (schur_lm.h); linear_solver is then not used.
+  enum class Optimizer { kCeres, kSchurLm };
+  Optimizer optimizer = Optimizer::kCeres;
   int max_iterations = 50;
   double max_time_s = 1e6;
   int threads = 1;

@@ -46,6 +46,20 @@ class Factor {
   double error(const Values& values) const;  // 0.5 * |whitened residual|^2
   // Whitened residual and tangent Jacobians (robust loss not applied).
   bool linearize(const Values& values, Linearization* out) const;
+  // The same at raw parameter blocks x (one per key, ambient), for solvers that work in
+  // tangent space: tangent_jacobians[i] (null if not wanted, or all null) is row-major
+  // dim x tangentDim(key i); manifolds[i] is key i's (null: Euclidean). This default goes
+  // through costFunction() and the manifolds' PlusJacobian; FactorT skips the ambient lift.
+  virtual bool evaluateTangent(const double* const* x, const ceres::Manifold* const* manifolds,
+                               double* residual, double** tangent_jacobians) const;
+  // A factor whose whitened tangent Jacobian is the same at every point (a linearized prior)
+  // gives it here (dim x the keys' tangent sizes in key order) with its J^T J, both computed
+  // once, so a solver need not evaluate or multiply them per iteration. Null otherwise.
+  struct ConstantJacobian {
+    const Eigen::MatrixXd* J = nullptr;
+    const Eigen::MatrixXd* JtJ = nullptr;
+  };
+  virtual ConstantJacobian constantJacobian() const { return {}; }
 
  private:
   std::vector<Key> keys_;
@@ -79,7 +93,33 @@ class FactorT : public Factor {
 
   ceres::CostFunction* costFunction() const override { return cost_.get(); }
 
+  bool evaluateTangent(const double* const* x, const ceres::Manifold* const*, double* residual,
+                       double** tangent_jacobians) const override {
+    const Derived& derived = static_cast<const Derived&>(*this);
+    if (!derived.evaluateError(x, residual, tangent_jacobians)) return false;
+    if constexpr (Derived::kNoiseDenseBlock > 0)
+      noiseModel().template whitenResidualFixed<kDim, Derived::kNoiseDenseBlock>(residual);
+    else
+      noiseModel().whitenResidual(residual);
+    if (tangent_jacobians) whitenAll(tangent_jacobians, std::index_sequence_for<Vars...>{});
+    return true;
+  }
+
  private:
+  template <std::size_t... I>
+  void whitenAll(double** tangent, std::index_sequence<I...>) const {
+    (whiten<Vars>(tangent[I]), ...);
+  }
+  template <class Var>
+  void whiten(double* tangent_jacobian) const {
+    if (!tangent_jacobian) return;
+    if constexpr (Derived::kNoiseDenseBlock > 0)
+      noiseModel().template whitenJacobianFixed<kDim, Derived::kNoiseDenseBlock, Var::kTangent>(
+          tangent_jacobian);
+    else
+      noiseModel().whitenJacobian(tangent_jacobian, Var::kTangent);
+  }
+
   class Cost : public ceres::SizedCostFunction<kDim, Vars::kAmbient...> {
    public:
     // Holds the base pointer: the derived object does not exist yet while FactorT is built, so
