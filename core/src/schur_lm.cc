@@ -1,6 +1,7 @@
 #include "hdvio/core/schur_lm.h"
 
 #include "hdvio/core/block_sparse_cholesky.h"
+#include "schur_lm_blocks.h"
 
 #include <algorithm>
 #include <chrono>
@@ -17,11 +18,12 @@
 namespace hdvio {
 namespace {
 
-using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-using RowMap = Eigen::Map<RowMat>;
-using ConstRowMap = Eigen::Map<const RowMat>;
-using VecMap = Eigen::Map<Eigen::VectorXd>;
-using ConstVecMap = Eigen::Map<const Eigen::VectorXd>;
+using schur_lm_blocks::addJtJ;
+using schur_lm_blocks::applyLoss;
+using schur_lm_blocks::ConstRowMap;
+using schur_lm_blocks::ConstVecMap;
+using schur_lm_blocks::RowMap;
+using schur_lm_blocks::subtractProduct;
 
 // Ceres' defaults for LEVENBERG_MARQUARDT (solver.h, levenberg_marquardt_strategy.cc).
 constexpr double kMinDiagonal = 1e-6, kMaxDiagonal = 1e32;
@@ -62,81 +64,6 @@ struct EliminatedBlock {
   Eigen::MatrixXd H, A_inv;               // J_e^T J_e and (H + damping)^-1
   Eigen::VectorXd g;                      // J_e^T r
 };
-
-// S(rows x cols block at S_ij) -= V W^T with V (rows x E) and W (cols x E) row-major: the Schur
-// complement's inner product, with fixed sizes for the usual blocks (poses 6, velocities 3,
-// landmarks 3).
-template <int R, int C, int E>
-void subtractFixed(Eigen::MatrixXd* S, int i, int j, const double* V, const double* W) {
-  Eigen::Map<const Eigen::Matrix<double, R, E, Eigen::RowMajor>> v(V);
-  Eigen::Map<const Eigen::Matrix<double, C, E, Eigen::RowMajor>> w(W);
-  S->block<R, C>(i, j).noalias() -= v.lazyProduct(w.transpose());
-}
-
-void subtractProduct(Eigen::MatrixXd* S, int i, int j, int rows, int cols, int e, const double* V,
-                     const double* W) {
-  if (e == 3) {
-    if (rows == 6 && cols == 6) return subtractFixed<6, 6, 3>(S, i, j, V, W);
-    if (rows == 6 && cols == 3) return subtractFixed<6, 3, 3>(S, i, j, V, W);
-    if (rows == 3 && cols == 6) return subtractFixed<3, 6, 3>(S, i, j, V, W);
-    if (rows == 3 && cols == 3) return subtractFixed<3, 3, 3>(S, i, j, V, W);
-  }
-  const ConstRowMap v(V, rows, e), w(W, cols, e);
-  S->block(i, j, rows, cols).noalias() -= v.lazyProduct(w.transpose());
-}
-
-// out (ta x tc, at out_ptr with outer stride ld, column-major) += Ja^T Jc, Ja (dim x ta) and Jc
-// (dim x tc) row-major; fixed sizes for a reprojection's 2 rows and 3- or 6-wide blocks.
-template <int D, int TA, int TC>
-void addJtJFixed(double* out, int ld, const double* Ja, const double* Jc) {
-  Eigen::Map<const Eigen::Matrix<double, D, TA, Eigen::RowMajor>> a(Ja);
-  Eigen::Map<const Eigen::Matrix<double, D, TC, Eigen::RowMajor>> c(Jc);
-  Eigen::Map<Eigen::Matrix<double, TA, TC>, 0, Eigen::OuterStride<>> o(out, Eigen::OuterStride<>(ld));
-  o.noalias() += a.transpose().lazyProduct(c);
-}
-
-void addJtJ(double* out, int ld, int dim, int ta, int tc, const double* Ja, const double* Jc) {
-  if (dim == 2) {
-    if (ta == 6 && tc == 6) return addJtJFixed<2, 6, 6>(out, ld, Ja, Jc);
-    if (ta == 6 && tc == 3) return addJtJFixed<2, 6, 3>(out, ld, Ja, Jc);
-    if (ta == 3 && tc == 3) return addJtJFixed<2, 3, 3>(out, ld, Ja, Jc);
-    if (ta == 3 && tc == 6) return addJtJFixed<2, 3, 6>(out, ld, Ja, Jc);
-  }
-  const ConstRowMap a(Ja, dim, ta), c(Jc, dim, tc);
-  Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>> o(out, ta, tc, Eigen::OuterStride<>(ld));
-  o.noalias() += a.transpose().lazyProduct(c);
-}
-
-// Ceres' Corrector (internal/ceres/corrector.cc): the robust loss as a rescaled residual and
-// Jacobian, with the second-order term when rho'' > 0.
-void applyLoss(const ceres::LossFunction& loss, int dim, double* r, double* const* J,
-               const std::vector<int>& cols, double* cost) {
-  double s = 0.0;
-  for (int i = 0; i < dim; ++i) s += r[i] * r[i];
-  double rho[3];
-  loss.Evaluate(s, rho);
-  *cost += 0.5 * rho[0];
-  if (!J) return;
-  const double sqrt_rho1 = std::sqrt(rho[1]);
-  double scaling = sqrt_rho1, alpha_sq_norm = 0.0;
-  if (s != 0.0 && rho[2] > 0.0) {
-    const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * s * rho[2] / rho[1]);
-    scaling = sqrt_rho1 / (1.0 - alpha);
-    alpha_sq_norm = alpha / s;
-  }
-  for (std::size_t k = 0; k < cols.size(); ++k) {
-    if (!J[k]) continue;
-    RowMap Jk(J[k], dim, cols[k]);
-    if (alpha_sq_norm == 0.0) {
-      Jk *= sqrt_rho1;
-    } else {
-      const ConstVecMap rv(r, dim);
-      const Eigen::RowVectorXd rtj = rv.transpose() * Jk;
-      Jk = sqrt_rho1 * (Jk - alpha_sq_norm * rv * rtj);
-    }
-  }
-  for (int i = 0; i < dim; ++i) r[i] *= scaling;
-}
 
 class SchurLm {
  public:

@@ -1,14 +1,14 @@
 #pragma once
 // Levenberg-Marquardt on a FactorGraph without Ceres: the variables whose key letter is in
 // options.eliminate_first (the landmarks of a window) are eliminated by a Schur complement per
-// variable, the rest is solved as one dense system. Same damping and trust-region rules as
-// Ceres' LEVENBERG_MARQUARDT with DENSE_SCHUR, so it is a drop-in for that solver
-// (OptimizerOptions::optimizer = kSchurLm); what it saves is Ceres' per-solve problem build and
-// preprocessing, its ambient-space Jacobians (factors give tangent Jacobians directly), the
-// dense Cholesky of the reduced system (block-sparse here) and, for a factor with a constant
-// Jacobian (Factor::constantJacobian, the marginalization prior), its evaluation and J^T J
-// product in every iteration. options.max_time_s and
-// linear_solver are not used: nothing in a solve depends on the clock.
+// variable, the rest is solved as one system by a block-sparse Cholesky. Same damping and
+// trust-region rules as Ceres' LEVENBERG_MARQUARDT with DENSE_SCHUR, so it is a drop-in for that
+// solver (OptimizerOptions::optimizer = kSchurLm); what it saves is Ceres' per-solve problem
+// build and preprocessing, its ambient-space Jacobians (factors give tangent Jacobians
+// directly), the dense Cholesky of the reduced system and, for a factor with a constant Jacobian
+// (Factor::constantJacobian, the marginalization prior), its evaluation and J^T J product in
+// every iteration. options.max_time_s and linear_solver are not used: nothing in a solve
+// depends on the clock.
 #include "hdvio/core/ceres_bridge.h"
 
 namespace hdvio {
