@@ -77,7 +77,7 @@ class SchurLm {
   void addDenseSlot(const Slot& slot);
   void addConstantSlot(const Slot& slot);
   bool solveStep(double radius);
-  double modelCostChange() const;
+  double modelCostChange();
   void stepFrom(const std::vector<double>& x, std::vector<double>* out) const;
 
   const OptimizerOptions& options_;
@@ -90,6 +90,7 @@ class SchurLm {
   std::vector<int> block_offsets_, block_sizes_;  // the reduced variables in the step
   BlockSparseCholesky cholesky_;
   Eigen::VectorXd g_r_, diagonal_, dx_;
+  Eigen::VectorXd jd_;  // J dx of one factor (modelCostChange), sized for the largest
 };
 
 SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const OptimizerOptions& options)
@@ -136,6 +137,9 @@ SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const Optimizer
   }
   r_.resize(r_size);
   r_trial_.resize(r_size);
+  int max_dim = 0;
+  for (const Slot& slot : slots_) max_dim = std::max(max_dim, slot.dim);
+  jd_.resize(max_dim);
   // Step layout: reduced variables (key order), then the eliminated ones (key order).
   for (Variable& v : vars_)
     if (v.role == Role::kReduced) {
@@ -411,10 +415,11 @@ bool SchurLm::solveStep(double radius) {
 }
 
 // Ceres' model cost change: -(J dx)^T (r + J dx / 2), summed over the factors.
-double SchurLm::modelCostChange() const {
+double SchurLm::modelCostChange() {
   double change = 0.0;
   for (const Slot& slot : slots_) {
-    Eigen::VectorXd jd = Eigen::VectorXd::Zero(slot.dim);
+    auto jd = jd_.head(slot.dim);
+    jd.setZero();
     for (std::size_t p = 0; p < slot.vars.size(); ++p) {
       const Variable& v = vars_[slot.vars[p]];
       if (v.role == Role::kConstant) continue;
@@ -452,6 +457,7 @@ OptimizeResult SchurLm::run() {
   summary.num_residual_blocks = static_cast<int>(slots_.size());
   summary.num_parameter_blocks = static_cast<int>(vars_.size());
   summary.num_effective_parameters_reduced = num_step_;
+  summary.num_linear_solves = 0;
   double cost = 0.0;
   if (!evaluate(x_, true, &cost)) {
     summary.termination_type = ceres::FAILURE;
@@ -480,7 +486,10 @@ OptimizeResult SchurLm::run() {
     it.iteration = iteration;
     it.cost = cost;
     bool valid = solveStep(radius);
+    ++summary.num_linear_solves;
     const double model_change = valid ? modelCostChange() : 0.0;
+    // What the damping took of the step's model decrease, dx^T D dx (D = diagonal / radius).
+    const double damping = (diagonal_.array() * dx_.array().square()).sum() / radius;
     valid = valid && model_change > 0.0;
     // A rejected or invalid step shrinks the trust region (Ceres' StepRejected); true: stop.
     const auto reject = [&] {
@@ -540,6 +549,16 @@ OptimizeResult SchurLm::run() {
       it.cost = cost;
       it.trust_region_radius = radius;
       summary.iterations.push_back(it);
+      // A nearly undamped step that lowered the cost by what the quadratic model predicted, both
+      // to within the function tolerance: the cost is quadratic here and the step went to the
+      // model's minimum, so the next step could lower it by about the mismatch and the damping,
+      // below the tolerance. Ceres computes that step only to find so.
+      const double tolerance = options_.function_tolerance * cost;
+      if (std::abs(it.cost_change - model_change) <= tolerance && damping <= tolerance) {
+        summary.termination_type = ceres::CONVERGENCE;
+        summary.message = "the step's decrease matched the model's within the function tolerance";
+        break;
+      }
       Eigen::VectorXd g(num_step_);
       g.head(num_reduced_) = g_r_;
       for (const EliminatedBlock& b : elim_) g.segment(vars_[b.var].dx_offset, b.g.size()) = b.g;
