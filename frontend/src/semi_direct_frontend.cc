@@ -203,9 +203,9 @@ FrameResult SemiDirectFrontend::track(const ImageFrame& input, const TrackingPri
 bool SemiDirectFrontend::initialize(const FramePtr& frame, const TrackingPrior& prior,
                                     FrameResult* result) {
   const auto t0 = Clock::now();
+  first_map_ = !last_T_cw_.has_value();
   // Without a prior the new map starts where the camera was last seen (the world origin at
   // the very start), so a re-initialization does not make the trajectory jump.
-  map_made_in_flight_ = last_T_cw_.has_value();
   frame->T_cw = prior.T_WB ? bodyToCamera(*prior.T_WB)
                            : (last_T_cw_ ? *last_T_cw_ : bodyToCamera(Pose()));
   const std::vector<Corner> corners =
@@ -317,8 +317,9 @@ void SemiDirectFrontend::updateDepthFilter(const Frame& frame) {
     if (s.landmark_id < 0) continue;
     auto it = map_.landmarks.find(s.landmark_id);
     // After one match the mixture mean sits between init_depth and the match; the match's
-    // own depth is where the landmark reprojects onto it.
-    const double depth = s.updates == 1 && map_made_in_flight_ ? s.measured_depth : s.depth();
+    // own depth is where the landmark reprojects onto it. Not in the run's first map (see
+    // first_map_).
+    const double depth = s.updates == 1 && !first_map_ ? s.measured_depth : s.depth();
     if (it != map_.landmarks.end())
       it->second->p_w = s.keyframe->T_cw.inverse() * (s.feature.f * depth);
   }

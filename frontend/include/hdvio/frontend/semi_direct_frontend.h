@@ -75,9 +75,10 @@ class SemiDirectFrontend {
   bool any_frame_ = false;
   int next_frame_id_ = 0;
   int bootstrap_frames_ = 0;
-  // A map made in flight places its provisional landmarks at their first match's depth; the
-  // start's map (at rest, first matches at little parallax) at the seeds' mixture mean.
-  bool map_made_in_flight_ = false;
+  // The run's first map (the start, usually at rest: first matches at little parallax, their
+  // depths noisy) places its provisional landmarks at the seeds' mixture mean; a later map
+  // (made in flight) at their first match's depth, then at the mean.
+  bool first_map_ = true;
   int relocalization_frames_ = 0;
   int frames_since_keyframe_ = 0;
   int structure_cursor_ = 0;
