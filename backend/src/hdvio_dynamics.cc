@@ -39,18 +39,14 @@ class HdvioDynamics final : public ForceDynamics {
       const DragIntegral drag =
           integrateDrag(*pit, params.drag, params.sigma_velocity_i, params.sigma_velocity_j);
       const Vec3 f_W = Ri * (pit->correctedGamma(s.bias) - drag.beta) / iv.dt;
-      params.force_walk_axes = force_walk_->update(f_W, iv.dt);
-      params.force_walk_axes->R_i = Ri;
+      params.force_random_walk = force_walk_->update(f_W, iv.dt);
     }
     // Outside what the model was trained on its measured error says nothing: the walk grows with
     // the distance beyond the envelope, to force_walk_outside_model at twice a bound.
     const double excess = modelEnvelopeExcess(iv, in);
-    if (excess > 0.0) {
-      const double least = std::min(1.0, excess) * options().force_walk_outside_model;
-      params.force_random_walk = std::max(params.force_random_walk, least);
-      if (params.force_walk_axes)
-        params.force_walk_axes->density = params.force_walk_axes->density.cwiseMax(least);
-    }
+    if (excess > 0.0)
+      params.force_random_walk =
+          std::max(params.force_random_walk, std::min(1.0, excess) * options().force_walk_outside_model);
     graph->add(std::make_shared<HdvioDynamicsFactor>(X(iv.i), V(iv.i), F(iv.i), X(iv.j), V(iv.j),
                                                      F(iv.j), B(iv.i), pit, params));
   }

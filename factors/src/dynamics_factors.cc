@@ -19,35 +19,22 @@ Mat3 evaluateSixKeys(const PointMassDynamics& dynamics, const double* const* x, 
 
 NoiseModelPtr HdvioDynamicsFactor::noiseFor(const PreintegratedThrust& pit,
                                             const DynamicsFactorParams& params) {
-  const double dt = pit.dt();
-  const ForceWalkAxes* axes = params.force_walk_axes ? &*params.force_walk_axes : nullptr;
   const double rw = params.force_random_walk;
-  if (axes ? !((axes->density.array() > 0.0).all() && axes->density.allFinite())
-           : !(rw > 0.0) || !std::isfinite(rw))
+  const double dt = pit.dt();
+  if (!(rw > 0.0) || !std::isfinite(rw))
     throw std::invalid_argument("dynamics factor: force random walk must be positive and finite");
   // The walk between the interpolated end points is a Brownian bridge B(t), independent of
-  // f_j - f_i; its integrals into alpha (weight dt - t) and beta (weight 1) have
-  // Var = Q dt^5/45, Q dt^3/12 and Cov = Q dt^4/24, Q the walk's covariance density in frame i
-  // (q I for an isotropic walk, q = rw^2). The drag law's own error (drag_sigma) adds its
-  // held-over-the-interval covariance.
+  // f_j - f_i; its integrals into alpha (weight dt - t) and beta (weight 1) have per axis
+  // Var = q dt^5/45, q dt^3/12 and Cov = q dt^4/24 (q = rw^2, isotropic, so the same in frame i).
+  // The drag law's own error (drag_sigma) adds its held-over-the-interval covariance.
+  const double q = rw * rw;
   Eigen::Matrix<double, 6, 6> cov =
       pit.alphaBetaCovariance() + dragCovariance(pit, params.drag, params.sigma_velocity_i, params.sigma_velocity_j);
-  if (!axes) {
-    const double q = rw * rw;
-    cov.topLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 5) / 45.0;
-    cov.topRightCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;
-    cov.bottomLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;
-    cov.bottomRightCorner<3, 3>().diagonal().array() += q * std::pow(dt, 3) / 12.0;
-    return NoiseModel::blockDiagonal<9, 6>(cov, Vec3::Constant(q * dt));
-  }
-  const Vec3 q = axes->density.cwiseAbs2();
-  const Mat3 U_i = axes->R_i.transpose() * axes->axes_W;
-  const Mat3 Q_i = U_i * q.asDiagonal() * U_i.transpose();
-  cov.topLeftCorner<3, 3>() += Q_i * (std::pow(dt, 5) / 45.0);
-  cov.topRightCorner<3, 3>() += Q_i * (std::pow(dt, 4) / 24.0);
-  cov.bottomLeftCorner<3, 3>() += Q_i * (std::pow(dt, 4) / 24.0);
-  cov.bottomRightCorner<3, 3>() += Q_i * (std::pow(dt, 3) / 12.0);
-  return NoiseModel::blockDiagonal<9, 6>(cov, Vec3(q * dt));
+  cov.topLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 5) / 45.0;
+  cov.topRightCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;
+  cov.bottomLeftCorner<3, 3>().diagonal().array() += q * std::pow(dt, 4) / 24.0;
+  cov.bottomRightCorner<3, 3>().diagonal().array() += q * std::pow(dt, 3) / 12.0;
+  return NoiseModel::blockDiagonal<9, 6>(cov, Vec3::Constant(q * dt));
 }
 
 HdvioDynamicsFactor::HdvioDynamicsFactor(Key pose_i, Key vel_i, Key force_i, Key pose_j, Key vel_j,
@@ -55,9 +42,7 @@ HdvioDynamicsFactor::HdvioDynamicsFactor(Key pose_i, Key vel_i, Key force_i, Key
                                          std::shared_ptr<const PreintegratedThrust> pit,
                                          const DynamicsFactorParams& params)
     : FactorT({pose_i, vel_i, force_i, pose_j, vel_j, force_j, bias_i}, noiseFor(*pit, params)),
-      PointMassDynamics(std::move(pit), params.drag) {
-  if (params.force_walk_axes) walk_axes_T_ = params.force_walk_axes->axes_W.transpose();
-}
+      PointMassDynamics(std::move(pit), params.drag) {}
 
 bool HdvioDynamicsFactor::evaluateError(const double* const* x, double* residual, double** jac) const {
   PointMassDynamics::Jacobians J;
@@ -74,7 +59,7 @@ bool HdvioDynamicsFactor::evaluateError(const double* const* x, double* residual
   const Vec3 df_i = RiT * (f_i - f_j);
   r.segment<3>(0) += ca * df_i;
   r.segment<3>(3) += cb * df_i;
-  r.segment<3>(6) = walk_axes_T_ * (f_j - f_i);
+  r.segment<3>(6) = f_j - f_i;
   if (!jac) return true;
   if (jac[0]) {
     Eigen::Map<Mat9x6> Jp(jac[0]);
@@ -85,13 +70,13 @@ bool HdvioDynamicsFactor::evaluateError(const double* const* x, double* residual
     Eigen::Map<Mat9x3> Jf(jac[2]);
     Jf.block<3, 3>(0, 0) += ca * RiT;
     Jf.block<3, 3>(3, 0) += cb * RiT;
-    Jf.block<3, 3>(6, 0) = -walk_axes_T_;
+    Jf.block<3, 3>(6, 0) = -1.0 * Mat3::Identity();
   }
   if (jac[5]) {
     Eigen::Map<Mat9x3> Jf(jac[5]);
     Jf.block<3, 3>(0, 0) = -ca * RiT;
     Jf.block<3, 3>(3, 0) = -cb * RiT;
-    Jf.block<3, 3>(6, 0) = walk_axes_T_;
+    Jf.block<3, 3>(6, 0) = Mat3::Identity();
   }
   return true;
 }

@@ -75,15 +75,6 @@ TYPED_TEST(DynamicsJacobians, MatchNumericalWithDrag) {
   expectDynamicsJacobiansMatchNumerical<TypeParam>(17, params);
 }
 
-// hdvio's adaptive walk along world axes: the force rows are f_j - f_i along them.
-TEST(DynamicsJacobians, HdvioMatchNumericalWithAWalkAlongAxes) {
-  DynamicsFactorParams params;
-  params.force_walk_axes = ForceWalkAxes{so3Exp(Vec3(0.4, -0.3, 0.7)), Vec3(0.3, 0.8, 2.5),
-                                         so3Exp(Vec3(-0.5, 0.6, 0.2))};
-  params.drag.linear = Vec3(0.3, 0.25, 0.05);
-  expectDynamicsJacobiansMatchNumerical<HdvioDynamicsFactor>(19, params);
-}
-
 class ReprojectionJacobians : public ::testing::TestWithParam<DistortionModel> {};
 
 TEST_P(ReprojectionJacobians, MatchNumerical) {

@@ -136,53 +136,6 @@ TEST(DynamicsNoiseTruth, HdvioWalkBridgeCovarianceMatchesMonteCarlo) {
   EXPECT_EQ(C(3, 6), 0.0);
 }
 
-// A walk that is not isotropic (hdvio's adaptive walk: densities along world axes U) seen from
-// a tilted state i: the bridge's alpha / beta covariance is R_i^T U diag(d^2) U^T R_i times the
-// one-axis coefficients, and the force rows (f_j - f_i along U) have variances d^2 dt. Monte
-// Carlo over 3-D walks; fails if the walk's axes or the attitude are left out.
-TEST(DynamicsNoiseTruth, HdvioWalkAlongAxesCovarianceMatchesMonteCarlo) {
-  std::mt19937 rng(25);
-  std::normal_distribution<double> normal;
-  const Vec3 d(0.3, 0.8, 2.5);
-  const Mat3 U = so3Exp(Vec3(0.4, -0.3, 0.7)), R_i = so3Exp(Vec3(-0.5, 0.6, 0.2));
-  const double T = 0.05;
-  const int steps = 100, trials = 20000;
-  const double h = T / steps;
-  Eigen::Matrix<double, 9, 9> S = Eigen::Matrix<double, 9, 9>::Zero();
-  std::vector<Vec3> path(steps + 1);
-  for (int n = 0; n < trials; ++n) {
-    path[0].setZero();
-    for (int k = 1; k <= steps; ++k)
-      path[k] = path[k - 1] + U * d.cwiseProduct(std::sqrt(h) * Vec3(normal(rng), normal(rng), normal(rng)));
-    const Vec3 w = path[steps];
-    Vec3 alpha = Vec3::Zero(), beta = Vec3::Zero();
-    for (int k = 0; k < steps; ++k) {  // midpoint rule for the force minus its interpolation
-      const double t = (k + 0.5) * h;
-      const Vec3 dev = 0.5 * (path[k] + path[k + 1]) - w * t / T;
-      beta += dev * h;
-      alpha += dev * (T - t) * h;
-    }
-    Eigen::Matrix<double, 9, 1> r;
-    r << R_i.transpose() * alpha, R_i.transpose() * beta, U.transpose() * w;
-    S += r * r.transpose();
-  }
-  S /= trials;
-  DynamicsFactorParams params;
-  params.force_walk_axes = ForceWalkAxes{U, d, R_i};
-  std::vector<DynamicsStep> exact(10, DynamicsStep{T / 10, Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
-  ThrustNoiseParams tiny;
-  tiny.thrust_noise_density = Vec3::Constant(1e-12);
-  tiny.thrust_direction_noise_density = 1e-12;
-  tiny.gyro_noise_density = 1e-12;
-  tiny.gyro_random_walk = 1e-12;
-  auto pit = std::make_shared<PreintegratedThrust>(PreintegratedThrust::integrate(exact, Vec6::Zero(), tiny));
-  const Eigen::MatrixXd C = HdvioDynamicsFactor::noiseFor(*pit, params)->covarianceMatrix();
-  // Every entry within 5 % of the larger diagonal it couples (Monte Carlo: ~1-2 %).
-  for (int r = 0; r < 9; ++r)
-    for (int c = 0; c < 9; ++c)
-      EXPECT_NEAR(S(r, c), C(r, c), 0.05 * std::sqrt(C(r, r) * C(c, c))) << r << ", " << c;
-}
-
 // Each factor declares only keys its residual depends on: no all-zero Jacobian block.
 TYPED_TEST(DynamicsNoiseTruth, EveryDeclaredKeyHasANonzeroJacobian) {
   std::mt19937 rng(23);

@@ -5,10 +5,8 @@
 // sample of the external force. Averaged over blocks of block_s, the spread of the increments
 // between consecutive blocks over the last window_s, minus what the accelerometer's white noise
 // explains, estimates the walk's density q (innovation-based adaptive process noise, as in
-// adaptive INS filters, Mohamed & Schwarz 1999). The estimate is a covariance, not one number:
-// a gust blows across, a thrust model errs along the body's z axis, and a walk averaged over
-// the three axes would be too tight along the one and too loose across it. Each of its
-// eigenvalues' square roots is clamped to [floor, max], and max until warmup_s of blocks are in.
+// adaptive INS filters, Mohamed & Schwarz 1999). The walk is sqrt(q) clamped to [floor, max],
+// and max until warmup_s of blocks are in.
 //
 // Why blocks: per 50-ms interval the white noise (racing IMU: 0.13 m/s^2 per axis) hides a
 // wind force that drifts by ~0.4 m/s^2 per sqrt(s); over 0.5-s means the drift dominates. For
@@ -17,7 +15,6 @@
 #include <deque>
 
 #include "hdvio/core/lie.h"
-#include "hdvio/factors/point_mass_dynamics.h"
 
 namespace hdvio {
 
@@ -36,9 +33,8 @@ class AdaptiveForceWalk {
   AdaptiveForceWalk(const AdaptiveForceWalkOptions& options, double floor, double accel_noise_density);
 
   // f_W: the interval's mean external force seen by the accelerometer (world frame, m/s^2),
-  // dt: the interval's length (s). Returns the walk's axes (world frame) and densities for that
-  // interval (R_i left to the caller).
-  ForceWalkAxes update(const Vec3& f_W, double dt);
+  // dt: the interval's length (s). Returns the walk density for that interval.
+  double update(const Vec3& f_W, double dt);
 
  private:
   struct Block {
@@ -51,7 +47,7 @@ class AdaptiveForceWalk {
   Vec3 open_sum_ = Vec3::Zero();  // the block being filled: sum of f dt and its span
   double open_span_ = 0.0;
   std::deque<Block> blocks_;      // completed, oldest first
-  ForceWalkAxes walk_;            // the estimate after the last completed block (max at first)
+  double walk_;                   // the estimate after the last completed block (max at first)
 };
 
 }  // namespace hdvio

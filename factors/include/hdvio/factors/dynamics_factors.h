@@ -32,10 +32,6 @@ class HdvioDynamicsFactor final
                       const DynamicsFactorParams& params);
   bool evaluateError(const double* const* x, double* residual, double** jacobians) const;
   static NoiseModelPtr noiseFor(const PreintegratedThrust& pit, const DynamicsFactorParams& params);
-
- private:
-  // Rows 6-8 are f_j - f_i along the walk's axes, where its covariance is diagonal.
-  Mat3 walk_axes_T_ = Mat3::Identity();
 };
 
 // VIMO and VID-Fusion: keys (X_i, V_i, F_i, X_j, V_j, B_i) and a prior on f_i with

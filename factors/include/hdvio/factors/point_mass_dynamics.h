@@ -8,7 +8,6 @@
 // its interpolation to f_j on top); dbg = bg_i - bg used for
 // preintegration. Its covariance is the preintegrated [alpha, beta] block.
 #include <memory>
-#include <optional>
 
 #include "hdvio/core/lie.h"
 #include "hdvio/core/noise_model.h"
@@ -17,20 +16,9 @@
 
 namespace hdvio {
 
-// A random walk that is not the same in every direction (hdvio's adaptive walk): densities
-// (m/s^2/sqrt(s)) along orthonormal world-frame axes (the columns of axes_W), and the attitude
-// of state i when the factor is made, in which the walk's bridge inside the interval is seen
-// (fixed for the factor's life, like sigma_velocity_*).
-struct ForceWalkAxes {
-  Mat3 axes_W = Mat3::Identity();
-  Vec3 density = Vec3::Ones();
-  Mat3 R_i = Mat3::Identity();
-};
-
 // Noise settings of the force rows (each factor reads the one it needs) and the drag law.
 struct DynamicsFactorParams {
-  double force_random_walk = 1.0;  // HDVIO: m/s^2/sqrt(s), the same on every axis
-  std::optional<ForceWalkAxes> force_walk_axes;  // HDVIO: replaces force_random_walk if set
+  double force_random_walk = 1.0;  // HDVIO: m/s^2/sqrt(s)
   double force_prior_sigma = 1.0;  // VIMO / VID-Fusion: m/s^2
   DragLaw drag;                    // none by default (the paper's point-mass model)
   // Body-frame velocities (frame i) at which the law's sigma is evaluated when it grows with
