@@ -23,6 +23,7 @@ using schur_lm_blocks::applyLoss;
 using schur_lm_blocks::ConstRowMap;
 using schur_lm_blocks::ConstVecMap;
 using schur_lm_blocks::RowMap;
+using schur_lm_blocks::subtractColumns3;
 using schur_lm_blocks::subtractProduct;
 
 // Ceres' defaults for LEVENBERG_MARQUARDT (solver.h, levenberg_marquardt_strategy.cc).
@@ -91,6 +92,12 @@ class SchurLm {
   BlockSparseCholesky cholesky_;
   Eigen::VectorXd g_r_, diagonal_, dx_;
   Eigen::VectorXd jd_;  // J dx of one factor (modelCostChange), sized for the largest
+  // One eliminated variable's uses in solveStep: where each reduced variable sits, its W and V.
+  struct UseRef {
+    int dx_offset, tangent;
+    const double *W, *V;
+  };
+  std::vector<UseRef> uses_;
 };
 
 SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const OptimizerOptions& options)
@@ -376,6 +383,7 @@ bool SchurLm::solveStep(double radius) {
       b.A_inv = llt.solve(Eigen::MatrixXd::Identity(e.tangent, e.tangent));
     }
     // rhs += V_a g_e and S -= V_a W_b^T over pairs of uses (upper triangle), V = W A^-1.
+    uses_.clear();
     for (const auto& [si, pi] : b.uses) {
       const Slot& slot = slots_[si];
       const Variable& v = vars_[slot.vars[pi]];
@@ -383,17 +391,28 @@ bool SchurLm::solveStep(double radius) {
       RowMap V(V_.data() + slot.w_offset[pi], v.tangent, e.tangent);
       V.noalias() = W.lazyProduct(b.A_inv);
       rhs.segment(v.dx_offset, v.tangent).noalias() += V.lazyProduct(b.g);
+      uses_.push_back({v.dx_offset, v.tangent, W.data(), V.data()});
     }
-    for (const auto& [si, pi] : b.uses) {
-      const Slot& slot_i = slots_[si];
-      const Variable& vi = vars_[slot_i.vars[pi]];
-      const double* V = V_.data() + slot_i.w_offset[pi];
-      for (const auto& [sj, pj] : b.uses) {
-        const Slot& slot_j = slots_[sj];
-        const Variable& vj = vars_[slot_j.vars[pj]];
-        if (vi.dx_offset > vj.dx_offset) continue;
-        subtractProduct(&S_, vi.dx_offset, vj.dx_offset, vi.tangent, vj.tangent, e.tangent, V,
-                        W_.data() + slot_j.w_offset[pj]);
+    for (const UseRef& ui : uses_) {
+      // A landmark's V by columns, once per use, for the vectorized kernel.
+      double vt[18];
+      const bool by_columns = e.tangent == 3 && (ui.tangent == 3 || ui.tangent == 6);
+      if (by_columns)
+        for (int r = 0; r < ui.tangent; ++r)
+          for (int k = 0; k < 3; ++k) vt[k * ui.tangent + r] = ui.V[r * 3 + k];
+      for (const UseRef& uj : uses_) {
+        if (ui.dx_offset > uj.dx_offset) continue;
+        if (by_columns && (uj.tangent == 3 || uj.tangent == 6)) {
+          double* block = S_.data() + ui.dx_offset + static_cast<Eigen::Index>(uj.dx_offset) * S_.rows();
+          if (ui.tangent == 6)
+            uj.tangent == 6 ? subtractColumns3<6, 6>(block, S_.rows(), vt, uj.W)
+                            : subtractColumns3<6, 3>(block, S_.rows(), vt, uj.W);
+          else
+            uj.tangent == 6 ? subtractColumns3<3, 6>(block, S_.rows(), vt, uj.W)
+                            : subtractColumns3<3, 3>(block, S_.rows(), vt, uj.W);
+          continue;
+        }
+        subtractProduct(&S_, ui.dx_offset, uj.dx_offset, ui.tangent, uj.tangent, e.tangent, ui.V, uj.W);
       }
     }
   }

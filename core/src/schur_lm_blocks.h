@@ -24,6 +24,22 @@ inline void subtractFixed(Eigen::MatrixXd* S, int i, int j, const double* V, con
   S->block<R, C>(i, j).noalias() -= v.lazyProduct(w.transpose());
 }
 
+// The same for a 3-wide eliminated variable (a landmark) with V given by columns (Vt: R x 3,
+// column-major): each column of the block takes V times one row of W as whole columns of V,
+// which vectorizes, where the coefficient-wise product above computes 3-long dot products one
+// by one. The sums are formed in the same order ((v0 w0 + v1 w1) + v2 w2), so the results are
+// the same bits.
+template <int R, int C>
+inline void subtractColumns3(double* s, Eigen::Index ld, const double* Vt, const double* W) {
+  using Col = Eigen::Matrix<double, R, 1>;
+  const Eigen::Map<const Col> v0(Vt), v1(Vt + R), v2(Vt + 2 * R);
+  for (int c = 0; c < C; ++c) {
+    Eigen::Map<Col> col(s + c * ld);
+    const double* w = W + 3 * c;
+    col.noalias() -= v0 * w[0] + v1 * w[1] + v2 * w[2];
+  }
+}
+
 inline void subtractProduct(Eigen::MatrixXd* S, int i, int j, int rows, int cols, int e, const double* V,
                      const double* W) {
   if (e == 3) {
