@@ -23,6 +23,7 @@ using schur_lm_blocks::applyLoss;
 using schur_lm_blocks::ConstRowMap;
 using schur_lm_blocks::ConstVecMap;
 using schur_lm_blocks::RowMap;
+using schur_lm_blocks::landmarkV;
 using schur_lm_blocks::subtractColumns3;
 using schur_lm_blocks::subtractProduct;
 
@@ -387,11 +388,19 @@ bool SchurLm::solveStep(double radius) {
     for (const auto& [si, pi] : b.uses) {
       const Slot& slot = slots_[si];
       const Variable& v = vars_[slot.vars[pi]];
-      const ConstRowMap W(W_.data() + slot.w_offset[pi], v.tangent, e.tangent);
-      RowMap V(V_.data() + slot.w_offset[pi], v.tangent, e.tangent);
-      V.noalias() = W.lazyProduct(b.A_inv);
-      rhs.segment(v.dx_offset, v.tangent).noalias() += V.lazyProduct(b.g);
-      uses_.push_back({v.dx_offset, v.tangent, W.data(), V.data()});
+      const double* W = W_.data() + slot.w_offset[pi];
+      double* V = V_.data() + slot.w_offset[pi];
+      double* rhs_v = rhs.data() + v.dx_offset;
+      if (e.tangent == 3 && v.tangent == 6) {
+        landmarkV<6>(W, b.A_inv.data(), b.g.data(), V, rhs_v);
+      } else if (e.tangent == 3 && v.tangent == 3) {
+        landmarkV<3>(W, b.A_inv.data(), b.g.data(), V, rhs_v);
+      } else {
+        RowMap Vm(V, v.tangent, e.tangent);
+        Vm.noalias() = ConstRowMap(W, v.tangent, e.tangent).lazyProduct(b.A_inv);
+        rhs.segment(v.dx_offset, v.tangent).noalias() += Vm.lazyProduct(b.g);
+      }
+      uses_.push_back({v.dx_offset, v.tangent, W, V});
     }
     for (const UseRef& ui : uses_) {
       // A landmark's V by columns, once per use, for the vectorized kernel.

@@ -40,6 +40,16 @@ inline void subtractColumns3(double* s, Eigen::Index ld, const double* Vt, const
   }
 }
 
+// A landmark's V = W A^-1 (R x 3, row-major, W too) and rhs_v += V g, with fixed sizes (the
+// products of the dynamic-size path, in the same order).
+template <int R>
+inline void landmarkV(const double* W, const double* A_inv, const double* g, double* V, double* rhs_v) {
+  using RowR3 = Eigen::Matrix<double, R, 3, Eigen::RowMajor>;
+  Eigen::Map<RowR3> v(V);
+  v.noalias() = Eigen::Map<const RowR3>(W).lazyProduct(Eigen::Map<const Eigen::Matrix3d>(A_inv));
+  Eigen::Map<Eigen::Matrix<double, R, 1>>(rhs_v).noalias() += v.lazyProduct(Eigen::Map<const Eigen::Vector3d>(g));
+}
+
 inline void subtractProduct(Eigen::MatrixXd* S, int i, int j, int rows, int cols, int e, const double* V,
                      const double* W) {
   if (e == 3) {

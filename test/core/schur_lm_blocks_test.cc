@@ -1,6 +1,7 @@
-// The landmark kernel of the own solver's Schur complement (core/src/schur_lm_blocks.h): the
-// column-wise product gives the same bits as the coefficient-wise one it replaces, so a solve
-// is byte-identical with either, and it touches only its block.
+// The landmark kernels of the own solver's Schur complement (core/src/schur_lm_blocks.h): the
+// column-wise product gives the same bits as the coefficient-wise one it replaces, and the
+// fixed-size V and right-hand side the same as the dynamic-size products, so a solve is
+// byte-identical with either; the block kernel touches only its block.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -42,6 +43,33 @@ TEST(SchurLmBlocks, ColumnKernelGivesTheCoefficientProductsBits) {
     expectSameBitsAsCoefficientProduct<6, 3>(seed);
     expectSameBitsAsCoefficientProduct<3, 6>(seed);
     expectSameBitsAsCoefficientProduct<3, 3>(seed);
+  }
+}
+
+// The fixed-size V = W A^-1 and rhs += V g of a landmark against the dynamic-size products.
+template <int R>
+void expectLandmarkVSameBits(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  Eigen::MatrixXd A_inv(3, 3);
+  Eigen::VectorXd g(3), rhs_expected(R), rhs_actual(R);
+  double W[R * 3], V_expected[R * 3], V_actual[R * 3];
+  for (Eigen::Index k = 0; k < 9; ++k) A_inv.data()[k] = u(rng) * 1e-3;
+  for (Eigen::Index k = 0; k < 3; ++k) g(k) = u(rng) * 1e2;
+  for (double& x : W) x = u(rng) * 1e4;
+  for (Eigen::Index k = 0; k < R; ++k) rhs_expected(k) = rhs_actual(k) = u(rng);
+  schur_lm_blocks::RowMap Ve(V_expected, R, 3);
+  Ve.noalias() = schur_lm_blocks::ConstRowMap(W, R, 3).lazyProduct(A_inv);
+  rhs_expected.noalias() += Ve.lazyProduct(g);
+  schur_lm_blocks::landmarkV<R>(W, A_inv.data(), g.data(), V_actual, rhs_actual.data());
+  for (int k = 0; k < R * 3; ++k) EXPECT_EQ(V_actual[k], V_expected[k]) << R << " V " << k;
+  for (int k = 0; k < R; ++k) EXPECT_EQ(rhs_actual(k), rhs_expected(k)) << R << " rhs " << k;
+}
+
+TEST(SchurLmBlocks, FixedSizeLandmarkProductsGiveTheDynamicOnesBits) {
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    expectLandmarkVSameBits<6>(seed);
+    expectLandmarkVSameBits<3>(seed);
   }
 }
 
