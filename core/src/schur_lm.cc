@@ -23,6 +23,7 @@ using schur_lm_blocks::applyLoss;
 using schur_lm_blocks::ConstRowMap;
 using schur_lm_blocks::ConstVecMap;
 using schur_lm_blocks::RowMap;
+using schur_lm_blocks::landmarkColumns;
 using schur_lm_blocks::landmarkV;
 using schur_lm_blocks::subtractColumns3;
 using schur_lm_blocks::subtractProduct;
@@ -403,25 +404,12 @@ bool SchurLm::solveStep(double radius) {
       uses_.push_back({v.dx_offset, v.tangent, W, V});
     }
     for (const UseRef& ui : uses_) {
-      // A landmark's V by columns, once per use, for the vectorized kernel.
-      double vt[18];
-      const bool by_columns = e.tangent == 3 && (ui.tangent == 3 || ui.tangent == 6);
-      if (by_columns)
-        for (int r = 0; r < ui.tangent; ++r)
-          for (int k = 0; k < 3; ++k) vt[k * ui.tangent + r] = ui.V[r * 3 + k];
+      double vt[18];  // a landmark's V by columns, once per use, for the vectorized kernel
+      const bool by_columns = e.tangent == 3 && landmarkColumns(ui.V, ui.tangent, vt);
       for (const UseRef& uj : uses_) {
         if (ui.dx_offset > uj.dx_offset) continue;
-        if (by_columns && (uj.tangent == 3 || uj.tangent == 6)) {
-          double* block = S_.data() + ui.dx_offset + static_cast<Eigen::Index>(uj.dx_offset) * S_.rows();
-          if (ui.tangent == 6)
-            uj.tangent == 6 ? subtractColumns3<6, 6>(block, S_.rows(), vt, uj.W)
-                            : subtractColumns3<6, 3>(block, S_.rows(), vt, uj.W);
-          else
-            uj.tangent == 6 ? subtractColumns3<3, 6>(block, S_.rows(), vt, uj.W)
-                            : subtractColumns3<3, 3>(block, S_.rows(), vt, uj.W);
-          continue;
-        }
-        subtractProduct(&S_, ui.dx_offset, uj.dx_offset, ui.tangent, uj.tangent, e.tangent, ui.V, uj.W);
+        if (!by_columns || !subtractColumns3(&S_, ui.dx_offset, uj.dx_offset, ui.tangent, uj.tangent, vt, uj.W))
+          subtractProduct(&S_, ui.dx_offset, uj.dx_offset, ui.tangent, uj.tangent, e.tangent, ui.V, uj.W);
       }
     }
   }

@@ -40,6 +40,27 @@ inline void subtractColumns3(double* s, Eigen::Index ld, const double* Vt, const
   }
 }
 
+// Vt (rows x 3, column-major) from V (rows x 3, row-major) for the kernel above; false (nothing
+// written) unless rows is 3 or 6.
+inline bool landmarkColumns(const double* V, int rows, double* Vt) {
+  if (rows != 3 && rows != 6) return false;
+  for (int r = 0; r < rows; ++r)
+    for (int k = 0; k < 3; ++k) Vt[k * rows + r] = V[r * 3 + k];
+  return true;
+}
+
+// subtractColumns3 on S's block at (i, j) for blocks of 3 or 6; false (nothing done) otherwise.
+inline bool subtractColumns3(Eigen::MatrixXd* S, int i, int j, int rows, int cols, const double* Vt,
+                             const double* W) {
+  double* s = S->data() + i + static_cast<Eigen::Index>(j) * S->rows();
+  const Eigen::Index ld = S->rows();
+  if (rows == 6 && cols == 6) return subtractColumns3<6, 6>(s, ld, Vt, W), true;
+  if (rows == 6 && cols == 3) return subtractColumns3<6, 3>(s, ld, Vt, W), true;
+  if (rows == 3 && cols == 6) return subtractColumns3<3, 6>(s, ld, Vt, W), true;
+  if (rows == 3 && cols == 3) return subtractColumns3<3, 3>(s, ld, Vt, W), true;
+  return false;
+}
+
 // A landmark's V = W A^-1 (R x 3, row-major, W too) and rhs_v += V g, with fixed sizes (the
 // products of the dynamic-size path, in the same order).
 template <int R>
