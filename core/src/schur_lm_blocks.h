@@ -14,21 +14,11 @@ using RowMap = Eigen::Map<RowMat>;
 using ConstRowMap = Eigen::Map<const RowMat>;
 using ConstVecMap = Eigen::Map<const Eigen::VectorXd>;
 
-// S(rows x cols block at S_ij) -= V W^T with V (rows x E) and W (cols x E) row-major: the Schur
-// complement's inner product, with fixed sizes for the usual blocks (poses 6, velocities 3,
-// landmarks 3).
-template <int R, int C, int E>
-inline void subtractFixed(Eigen::MatrixXd* S, int i, int j, const double* V, const double* W) {
-  Eigen::Map<const Eigen::Matrix<double, R, E, Eigen::RowMajor>> v(V);
-  Eigen::Map<const Eigen::Matrix<double, C, E, Eigen::RowMajor>> w(W);
-  S->block<R, C>(i, j).noalias() -= v.lazyProduct(w.transpose());
-}
-
-// The same for a 3-wide eliminated variable (a landmark) with V given by columns (Vt: R x 3,
-// column-major): each column of the block takes V times one row of W as whole columns of V,
-// which vectorizes, where the coefficient-wise product above computes 3-long dot products one
-// by one. The sums are formed in the same order ((v0 w0 + v1 w1) + v2 w2), so the results are
-// the same bits.
+// S(R x C block at s, column-major, leading dimension ld) -= V W^T for a 3-wide eliminated
+// variable (a landmark): V given by columns (Vt: R x 3, column-major), W (C x 3) row-major. Each
+// column of the block takes V times one row of W as whole columns of V, which vectorizes, where
+// a coefficient-wise product computes 3-long dot products one by one. The sums are formed in
+// the same order ((v0 w0 + v1 w1) + v2 w2), so the results are the same bits.
 template <int R, int C>
 inline void subtractColumns3(double* s, Eigen::Index ld, const double* Vt, const double* W) {
   using Col = Eigen::Matrix<double, R, 1>;
@@ -71,14 +61,10 @@ inline void landmarkV(const double* W, const double* A_inv, const double* g, dou
   Eigen::Map<Eigen::Matrix<double, R, 1>>(rhs_v).noalias() += v.lazyProduct(Eigen::Map<const Eigen::Vector3d>(g));
 }
 
+// S(rows x cols block at S_ij) -= V W^T with V (rows x e) and W (cols x e) row-major: the
+// Schur complement's inner product for blocks the landmark kernels above do not take.
 inline void subtractProduct(Eigen::MatrixXd* S, int i, int j, int rows, int cols, int e, const double* V,
                      const double* W) {
-  if (e == 3) {
-    if (rows == 6 && cols == 6) return subtractFixed<6, 6, 3>(S, i, j, V, W);
-    if (rows == 6 && cols == 3) return subtractFixed<6, 3, 3>(S, i, j, V, W);
-    if (rows == 3 && cols == 6) return subtractFixed<3, 6, 3>(S, i, j, V, W);
-    if (rows == 3 && cols == 3) return subtractFixed<3, 3, 3>(S, i, j, V, W);
-  }
   const ConstRowMap v(V, rows, e), w(W, cols, e);
   S->block(i, j, rows, cols).noalias() -= v.lazyProduct(w.transpose());
 }
