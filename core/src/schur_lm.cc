@@ -23,6 +23,7 @@ using schur_lm_blocks::applyLoss;
 using schur_lm_blocks::ConstRowMap;
 using schur_lm_blocks::ConstVecMap;
 using schur_lm_blocks::RowMap;
+using schur_lm_blocks::setJtJ;
 using schur_lm_blocks::landmarkColumns;
 using schur_lm_blocks::landmarkV;
 using schur_lm_blocks::subtractColumns3;
@@ -49,11 +50,15 @@ struct Variable {
 
 struct Slot {  // one factor and where its residual and Jacobians live
   const Factor* factor = nullptr;
-  std::vector<int> vars;
+  // Per key: the variable, where its Jacobian lives (row-major dim x tangent; non-constant keys)
+  // and its J_key^T J_e (reduced keys of a slot with an eliminated one). One array per slot.
+  struct KeyRef {
+    int var = 0;
+    std::size_t j_offset = 0, w_offset = 0;
+  };
+  std::vector<KeyRef> keys;
   int dim = 0;
   std::size_t r_offset = 0;
-  std::vector<std::size_t> j_offset;  // per key, row-major dim x tangent (non-constant keys)
-  std::vector<std::size_t> w_offset;  // per key: J_key^T J_e (reduced keys of a slot with an eliminated one)
   int eliminated_pos = -1;            // position of the eliminated key, -1 none
   // A factor with a constant Jacobian (Factor::constantJacobian): its J, J^T J and the column
   // of each key in them; its Jacobians are then neither evaluated nor stored.
@@ -132,6 +137,7 @@ SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const Optimizer
     slot.dim = slot.factor->dim();
     slot.r_offset = r_size;
     r_size += static_cast<std::size_t>(slot.dim);
+    slot.keys.reserve(slot.factor->keys().size());
     for (Key k : slot.factor->keys()) {
       const int i = find(k);
       Variable& v = vars_[i];
@@ -140,7 +146,7 @@ SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const Optimizer
                  : options.eliminate_first.count(k.letter()) ? Role::kEliminated
                                                                : Role::kReduced;
       }
-      slot.vars.push_back(i);
+      slot.keys.push_back({i});
     }
     slot.constant = slot.factor->constantJacobian();
   }
@@ -174,12 +180,11 @@ SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const Optimizer
   std::size_t j_size = 0, w_size = 0;
   for (std::size_t s = 0; s < slots_.size(); ++s) {
     Slot& slot = slots_[s];
-    slot.j_offset.assign(slot.vars.size(), 0);
-    slot.w_offset.assign(slot.vars.size(), 0);
     if (slot.constant.J) {
       int col = 0;
       bool eliminated = false;
-      for (int i : slot.vars) {
+      for (const Slot::KeyRef& k : slot.keys) {
+        const int i = k.var;
         slot.constant_col.push_back(col);
         col += vars_[i].tangent;
         eliminated = eliminated || vars_[i].role == Role::kEliminated;
@@ -189,10 +194,10 @@ SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const Optimizer
       slot.constant = {};  // not the expected shape: linearize it like any other factor
       slot.constant_col.clear();
     }
-    for (std::size_t p = 0; p < slot.vars.size(); ++p) {
-      const Variable& v = vars_[slot.vars[p]];
+    for (std::size_t p = 0; p < slot.keys.size(); ++p) {
+      const Variable& v = vars_[slot.keys[p].var];
       if (v.role == Role::kConstant) continue;
-      slot.j_offset[p] = j_size;
+      slot.keys[p].j_offset = j_size;
       j_size += static_cast<std::size_t>(slot.dim * v.tangent);
       if (v.role == Role::kEliminated) {
         if (slot.eliminated_pos >= 0)
@@ -201,11 +206,11 @@ SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const Optimizer
       }
     }
     if (slot.eliminated_pos < 0) continue;
-    const Variable& e = vars_[slot.vars[slot.eliminated_pos]];
-    for (std::size_t p = 0; p < slot.vars.size(); ++p) {
-      const Variable& v = vars_[slot.vars[p]];
+    const Variable& e = vars_[slot.keys[slot.eliminated_pos].var];
+    for (std::size_t p = 0; p < slot.keys.size(); ++p) {
+      const Variable& v = vars_[slot.keys[p].var];
       if (v.role != Role::kReduced) continue;
-      slot.w_offset[p] = w_size;
+      slot.keys[p].w_offset = w_size;
       w_size += static_cast<std::size_t>(v.tangent * e.tangent);
       elim_[e.eliminated].uses.emplace_back(static_cast<int>(s), static_cast<int>(p));
     }
@@ -223,24 +228,23 @@ SchurLm::SchurLm(const FactorGraph& graph, const Values& values, const Optimizer
 // Jacobians are kept for the normal equations.
 bool SchurLm::evaluate(const std::vector<double>& x, bool jacobians, double* cost) {
   *cost = 0.0;
-  std::vector<const double*> params;
-  std::vector<const ceres::Manifold*> manifolds;
-  std::vector<double*> jac;
-  std::vector<int> cols;
+  // Sized once for the factor with the most keys; each slot fills its first n entries.
+  std::size_t max_keys = 0;
+  for (const Slot& slot : slots_) max_keys = std::max(max_keys, slot.keys.size());
+  std::vector<const double*> params(max_keys);
+  std::vector<const ceres::Manifold*> manifolds(max_keys);
+  std::vector<double*> jac(max_keys);
+  std::vector<int> cols(max_keys);
   for (Slot& slot : slots_) {
-    const std::size_t n = slot.vars.size();
-    params.resize(n);
-    manifolds.resize(n);
-    jac.assign(n, nullptr);
-    cols.resize(n);
+    const std::size_t n = slot.keys.size();
+    const bool with_jacobians = jacobians && !slot.constant.J;
     for (std::size_t p = 0; p < n; ++p) {
-      const Variable& v = vars_[slot.vars[p]];
+      const Variable& v = vars_[slot.keys[p].var];
       params[p] = x.data() + v.x_offset;
       manifolds[p] = v.manifold;
       cols[p] = v.tangent;
-      if (jacobians && v.role != Role::kConstant && !slot.constant.J) jac[p] = J_.data() + slot.j_offset[p];
+      jac[p] = with_jacobians && v.role != Role::kConstant ? J_.data() + slot.keys[p].j_offset : nullptr;
     }
-    const bool with_jacobians = jacobians && !slot.constant.J;
     // A cost-only evaluation (a candidate point) must not overwrite the residuals at x, which
     // the model cost change of the next step uses.
     double* r = (jacobians ? r_.data() : r_trial_.data()) + slot.r_offset;
@@ -249,7 +253,8 @@ bool SchurLm::evaluate(const std::vector<double>& x, bool jacobians, double* cos
       return false;
     if (const ceres::LossFunction* loss = slot.factor->loss()) {
       if (slot.constant.J) throw std::logic_error("optimizeSchurLm: a constant-Jacobian factor with a loss");
-      applyLoss(*loss, slot.dim, r, with_jacobians ? jac.data() : nullptr, cols, cost);
+      applyLoss(*loss, slot.dim, r, with_jacobians ? jac.data() : nullptr, cols.data(),
+                static_cast<int>(n), cost);
     } else {
       *cost += 0.5 * ConstVecMap(r, slot.dim).squaredNorm();
     }
@@ -276,10 +281,10 @@ void SchurLm::buildNormalEquations() {
       continue;
     }
     const ConstVecMap r(r_.data() + slot.r_offset, slot.dim);
-    for (std::size_t a = 0; a < slot.vars.size(); ++a) {
-      const Variable& va = vars_[slot.vars[a]];
+    for (std::size_t a = 0; a < slot.keys.size(); ++a) {
+      const Variable& va = vars_[slot.keys[a].var];
       if (va.role == Role::kConstant) continue;
-      const ConstRowMap Ja(J_.data() + slot.j_offset[a], slot.dim, va.tangent);
+      const ConstRowMap Ja(J_.data() + slot.keys[a].j_offset, slot.dim, va.tangent);
       if (va.role == Role::kEliminated) {
         EliminatedBlock& b = elim_[va.eliminated];
         addJtJ(b.H.data(), va.tangent, slot.dim, va.tangent, va.tangent, Ja.data(), Ja.data());
@@ -287,15 +292,13 @@ void SchurLm::buildNormalEquations() {
         continue;
       }
       g_r_.segment(va.dx_offset, va.tangent).noalias() += Ja.transpose().lazyProduct(r);
-      for (std::size_t c = 0; c < slot.vars.size(); ++c) {
-        const Variable& vc = vars_[slot.vars[c]];
+      for (std::size_t c = 0; c < slot.keys.size(); ++c) {
+        const Variable& vc = vars_[slot.keys[c].var];
         if (vc.role == Role::kConstant) continue;
-        const ConstRowMap Jc(J_.data() + slot.j_offset[c], slot.dim, vc.tangent);
+        const ConstRowMap Jc(J_.data() + slot.keys[c].j_offset, slot.dim, vc.tangent);
         if (vc.role == Role::kEliminated) {
           // W is row-major (ta x tc): as a column-major (tc x ta) block it is Jc^T Ja.
-          double* w = W_.data() + slot.w_offset[a];
-          std::fill_n(w, va.tangent * vc.tangent, 0.0);
-          addJtJ(w, vc.tangent, slot.dim, vc.tangent, va.tangent, Jc.data(), Ja.data());
+          setJtJ(W_.data() + slot.keys[a].w_offset, slot.dim, vc.tangent, va.tangent, Jc.data(), Ja.data());
         } else if (va.dx_offset <= vc.dx_offset) {
           addJtJ(H_rr_.data() + va.dx_offset + static_cast<std::ptrdiff_t>(vc.dx_offset) * num_reduced_,
                  num_reduced_, slot.dim, va.tangent, vc.tangent, Ja.data(), Jc.data());
@@ -320,25 +323,25 @@ void SchurLm::buildNormalEquations() {
 void SchurLm::addDenseSlot(const Slot& slot) {
   std::vector<int> cols;
   int total = 0;
-  for (std::size_t a = 0; a < slot.vars.size(); ++a) {
+  for (std::size_t a = 0; a < slot.keys.size(); ++a) {
     cols.push_back(total);
-    if (vars_[slot.vars[a]].role == Role::kReduced) total += vars_[slot.vars[a]].tangent;
+    if (vars_[slot.keys[a].var].role == Role::kReduced) total += vars_[slot.keys[a].var].tangent;
   }
   dense_J_.resize(slot.dim, total);
-  for (std::size_t a = 0; a < slot.vars.size(); ++a) {
-    const Variable& v = vars_[slot.vars[a]];
+  for (std::size_t a = 0; a < slot.keys.size(); ++a) {
+    const Variable& v = vars_[slot.keys[a].var];
     if (v.role != Role::kReduced) continue;
-    dense_J_.middleCols(cols[a], v.tangent) = ConstRowMap(J_.data() + slot.j_offset[a], slot.dim, v.tangent);
+    dense_J_.middleCols(cols[a], v.tangent) = ConstRowMap(J_.data() + slot.keys[a].j_offset, slot.dim, v.tangent);
   }
   dense_G_.resize(total, total);
   dense_G_.noalias() = dense_J_.transpose() * dense_J_;
   const Eigen::VectorXd gr = dense_J_.transpose() * ConstVecMap(r_.data() + slot.r_offset, slot.dim);
-  for (std::size_t a = 0; a < slot.vars.size(); ++a) {
-    const Variable& va = vars_[slot.vars[a]];
+  for (std::size_t a = 0; a < slot.keys.size(); ++a) {
+    const Variable& va = vars_[slot.keys[a].var];
     if (va.role != Role::kReduced) continue;
     g_r_.segment(va.dx_offset, va.tangent) += gr.segment(cols[a], va.tangent);
-    for (std::size_t c = 0; c < slot.vars.size(); ++c) {
-      const Variable& vc = vars_[slot.vars[c]];
+    for (std::size_t c = 0; c < slot.keys.size(); ++c) {
+      const Variable& vc = vars_[slot.keys[c].var];
       if (vc.role != Role::kReduced || va.dx_offset > vc.dx_offset) continue;
       H_rr_.block(va.dx_offset, vc.dx_offset, va.tangent, vc.tangent) +=
           dense_G_.block(cols[a], cols[c], va.tangent, vc.tangent);
@@ -351,12 +354,12 @@ void SchurLm::addConstantSlot(const Slot& slot) {
   const Eigen::VectorXd gr =
       slot.constant.J->transpose() * ConstVecMap(r_.data() + slot.r_offset, slot.dim);
   const Eigen::MatrixXd& JtJ = *slot.constant.JtJ;
-  for (std::size_t a = 0; a < slot.vars.size(); ++a) {
-    const Variable& va = vars_[slot.vars[a]];
+  for (std::size_t a = 0; a < slot.keys.size(); ++a) {
+    const Variable& va = vars_[slot.keys[a].var];
     if (va.role != Role::kReduced) continue;
     g_r_.segment(va.dx_offset, va.tangent) += gr.segment(slot.constant_col[a], va.tangent);
-    for (std::size_t c = 0; c < slot.vars.size(); ++c) {
-      const Variable& vc = vars_[slot.vars[c]];
+    for (std::size_t c = 0; c < slot.keys.size(); ++c) {
+      const Variable& vc = vars_[slot.keys[c].var];
       if (vc.role != Role::kReduced || va.dx_offset > vc.dx_offset) continue;
       H_rr_.block(va.dx_offset, vc.dx_offset, va.tangent, vc.tangent) +=
           JtJ.block(slot.constant_col[a], slot.constant_col[c], va.tangent, vc.tangent);
@@ -388,9 +391,9 @@ bool SchurLm::solveStep(double radius) {
     uses_.clear();
     for (const auto& [si, pi] : b.uses) {
       const Slot& slot = slots_[si];
-      const Variable& v = vars_[slot.vars[pi]];
-      const double* W = W_.data() + slot.w_offset[pi];
-      double* V = V_.data() + slot.w_offset[pi];
+      const Variable& v = vars_[slot.keys[pi].var];
+      const double* W = W_.data() + slot.keys[pi].w_offset;
+      double* V = V_.data() + slot.keys[pi].w_offset;
       double* rhs_v = rhs.data() + v.dx_offset;
       if (e.tangent == 3 && v.tangent == 6) {
         landmarkV<6>(W, b.A_inv.data(), b.g.data(), V, rhs_v);
@@ -421,8 +424,8 @@ bool SchurLm::solveStep(double radius) {
     Eigen::VectorXd t = -b.g;
     for (const auto& [s, p] : b.uses) {
       const Slot& slot = slots_[s];
-      const Variable& v = vars_[slot.vars[p]];
-      const ConstRowMap W(W_.data() + slot.w_offset[p], v.tangent, e.tangent);
+      const Variable& v = vars_[slot.keys[p].var];
+      const ConstRowMap W(W_.data() + slot.keys[p].w_offset, v.tangent, e.tangent);
       t.noalias() -= W.transpose() * dx_.segment(v.dx_offset, v.tangent);
     }
     dx_.segment(e.dx_offset, e.tangent).noalias() = b.A_inv * t;
@@ -436,14 +439,14 @@ double SchurLm::modelCostChange() {
   for (const Slot& slot : slots_) {
     auto jd = jd_.head(slot.dim);
     jd.setZero();
-    for (std::size_t p = 0; p < slot.vars.size(); ++p) {
-      const Variable& v = vars_[slot.vars[p]];
+    for (std::size_t p = 0; p < slot.keys.size(); ++p) {
+      const Variable& v = vars_[slot.keys[p].var];
       if (v.role == Role::kConstant) continue;
       if (slot.constant.J)
         jd.noalias() += slot.constant.J->middleCols(slot.constant_col[p], v.tangent) *
                         dx_.segment(v.dx_offset, v.tangent);
       else
-        jd.noalias() += ConstRowMap(J_.data() + slot.j_offset[p], slot.dim, v.tangent) *
+        jd.noalias() += ConstRowMap(J_.data() + slot.keys[p].j_offset, slot.dim, v.tangent) *
                         dx_.segment(v.dx_offset, v.tangent);
     }
     const ConstVecMap r(r_.data() + slot.r_offset, slot.dim);

@@ -79,6 +79,26 @@ inline void addJtJFixed(double* out, int ld, const double* Ja, const double* Jc)
   o.noalias() += a.transpose().lazyProduct(c);
 }
 
+// out = Ja^T Jc (the same products as addJtJ onto a zeroed block, without zeroing it first).
+template <int D, int TA, int TC>
+inline void setJtJFixed(double* out, const double* Ja, const double* Jc) {
+  Eigen::Map<const Eigen::Matrix<double, D, TA, Eigen::RowMajor>> a(Ja);
+  Eigen::Map<const Eigen::Matrix<double, D, TC, Eigen::RowMajor>> c(Jc);
+  Eigen::Map<Eigen::Matrix<double, TA, TC>> o(out);
+  o.noalias() = a.transpose().lazyProduct(c);
+}
+
+// out (ta x tc, column-major, contiguous) = Ja^T Jc.
+inline void setJtJ(double* out, int dim, int ta, int tc, const double* Ja, const double* Jc) {
+  if (dim == 2) {
+    if (ta == 3 && tc == 6) return setJtJFixed<2, 3, 6>(out, Ja, Jc);
+    if (ta == 3 && tc == 3) return setJtJFixed<2, 3, 3>(out, Ja, Jc);
+  }
+  const ConstRowMap a(Ja, dim, ta), c(Jc, dim, tc);
+  Eigen::Map<Eigen::MatrixXd> o(out, ta, tc);
+  o.noalias() = a.transpose().lazyProduct(c);
+}
+
 inline void addJtJ(double* out, int ld, int dim, int ta, int tc, const double* Ja, const double* Jc) {
   if (dim == 2) {
     if (ta == 6 && tc == 6) return addJtJFixed<2, 6, 6>(out, ld, Ja, Jc);
@@ -94,7 +114,7 @@ inline void addJtJ(double* out, int ld, int dim, int ta, int tc, const double* J
 // Ceres' Corrector (internal/ceres/corrector.cc): the robust loss as a rescaled residual and
 // Jacobian, with the second-order term when rho'' > 0.
 inline void applyLoss(const ceres::LossFunction& loss, int dim, double* r, double* const* J,
-               const std::vector<int>& cols, double* cost) {
+                      const int* cols, int num_keys, double* cost) {
   double s = 0.0;
   for (int i = 0; i < dim; ++i) s += r[i] * r[i];
   double rho[3];
@@ -108,12 +128,12 @@ inline void applyLoss(const ceres::LossFunction& loss, int dim, double* r, doubl
     scaling = sqrt_rho1 / (1.0 - alpha);
     alpha_sq_norm = alpha / s;
   }
-  for (std::size_t k = 0; k < cols.size(); ++k) {
+  for (int k = 0; k < num_keys; ++k) {
     if (!J[k]) continue;
-    RowMap Jk(J[k], dim, cols[k]);
-    if (alpha_sq_norm == 0.0) {
-      Jk *= sqrt_rho1;
+    if (alpha_sq_norm == 0.0) {  // first order only (Huber): each entry times sqrt(rho')
+      for (int i = 0; i < dim * cols[k]; ++i) J[k][i] *= sqrt_rho1;
     } else {
+      RowMap Jk(J[k], dim, cols[k]);
       const ConstVecMap rv(r, dim);
       const Eigen::RowVectorXd rtj = rv.transpose() * Jk;
       Jk = sqrt_rho1 * (Jk - alpha_sq_norm * rv * rtj);

@@ -1,5 +1,7 @@
 #include "hdvio/core/noise_model.h"
 
+#include <cmath>
+
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 
@@ -28,6 +30,24 @@ TEST(NoiseModel, DiagonalWhitensResidualAndJacobian) {
   noise->whitenJacobian(J, 2);
   EXPECT_DOUBLE_EQ(J[1], 4.0);
   EXPECT_DOUBLE_EQ(J[2], 1.5);
+}
+
+// A diagonal model's fixed-size whitening (what FactorT uses for diagonal noise) gives the
+// dynamic path's bits, row by row.
+TEST(NoiseModel, DiagonalFixedWhiteningGivesTheDynamicPathsBits) {
+  const auto noise = NoiseModel::diagonal(Eigen::Vector3d(0.7, 3.1, 1.3e-3));
+  Eigen::Matrix<double, 3, 6, Eigen::RowMajor> J_dynamic;
+  for (int k = 0; k < 18; ++k) J_dynamic.data()[k] = std::sin(1.0 + k) * std::pow(10.0, k % 5 - 2);
+  const Eigen::Matrix<double, 3, 6, Eigen::RowMajor> J = J_dynamic;
+  Eigen::Matrix<double, 3, 6, Eigen::RowMajor> J_fixed = J;
+  Eigen::Vector3d r_dynamic(0.3, -7.1, 2.2e-4), r_fixed = r_dynamic;
+  noise->whitenJacobian(J_dynamic.data(), 6);
+  noise->whitenJacobianDiagonal<3, 6>(J_fixed.data());
+  noise->whitenResidual(r_dynamic.data());
+  noise->whitenResidualDiagonal<3>(r_fixed.data());
+  for (int k = 0; k < 18; ++k) EXPECT_EQ(J_fixed.data()[k], J_dynamic.data()[k]) << k;
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(r_fixed(k), r_dynamic(k)) << k;
+  EXPECT_DOUBLE_EQ(J_fixed(2, 4), J(2, 4) / 1.3e-3);  // row 2 by its own sigma
 }
 
 // The block-diagonal model's fixed-size whitening, its dynamic path and core's dense model built

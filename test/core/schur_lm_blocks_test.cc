@@ -4,6 +4,7 @@
 // byte-identical with either; the block kernel touches only its block.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "schur_lm_blocks.h"
@@ -78,6 +79,31 @@ TEST(SchurLmBlocks, FixedSizeLandmarkProductsGiveTheDynamicOnesBits) {
   for (unsigned seed = 1; seed <= 20; ++seed) {
     expectLandmarkVSameBits<6>(seed);
     expectLandmarkVSameBits<3>(seed);
+  }
+}
+
+// W = Jc^T Ja written directly gives the bits of the former zero fill followed by addJtJ.
+template <int TC, int TA>
+void expectSetJtJSameBits(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  double Jc[2 * TC], Ja[2 * TA], expected[TC * TA], actual[TC * TA];
+  for (double& x : Jc) x = u(rng) * 1e3;
+  for (double& x : Ja) x = u(rng) * 1e-2;
+  for (int k = 0; k < TC * TA; ++k) {
+    expected[k] = 0.0;
+    actual[k] = std::numeric_limits<double>::quiet_NaN();  // must be overwritten, not added to
+  }
+  schur_lm_blocks::addJtJ(expected, TC, 2, TC, TA, Jc, Ja);
+  schur_lm_blocks::setJtJ(actual, 2, TC, TA, Jc, Ja);
+  for (int k = 0; k < TC * TA; ++k) EXPECT_EQ(actual[k], expected[k]) << TC << "x" << TA << " " << k;
+}
+
+TEST(SchurLmBlocks, WrittenLandmarkPoseBlockGivesTheAccumulatedOnesBits) {
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    expectSetJtJSameBits<3, 6>(seed);
+    expectSetJtJSameBits<3, 3>(seed);
+    expectSetJtJSameBits<6, 6>(seed);  // the dynamic-size fallback
   }
 }
 

@@ -99,6 +99,8 @@ class FactorT : public Factor {
     if (!derived.evaluateError(x, residual, tangent_jacobians)) return false;
     if constexpr (Derived::kNoiseDenseBlock > 0)
       noiseModel().template whitenResidualFixed<kDim, Derived::kNoiseDenseBlock>(residual);
+    else if (noiseModel().denseBlock() == 0 && noiseModel().dim() == kDim)
+      noiseModel().template whitenResidualDiagonal<kDim>(residual);
     else
       noiseModel().whitenResidual(residual);
     if (tangent_jacobians) whitenAll(tangent_jacobians, std::index_sequence_for<Vars...>{});
@@ -116,6 +118,8 @@ class FactorT : public Factor {
     if constexpr (Derived::kNoiseDenseBlock > 0)
       noiseModel().template whitenJacobianFixed<kDim, Derived::kNoiseDenseBlock, Var::kTangent>(
           tangent_jacobian);
+    else if (noiseModel().denseBlock() == 0 && noiseModel().dim() == kDim)  // diagonal: fixed sizes
+      noiseModel().template whitenJacobianDiagonal<kDim, Var::kTangent>(tangent_jacobian);
     else
       noiseModel().whitenJacobian(tangent_jacobian, Var::kTangent);
   }

@@ -51,6 +51,12 @@ class NoiseModel {
   void whitenResidualFixed(double* r) const;
   template <int N, int K, int Cols>
   void whitenJacobianFixed(double* J) const;
+  // A diagonal model (denseBlock() == 0) with dim() == N: the same products as the dynamic path
+  // (each entry times its row's 1/sigma), with compile-time sizes.
+  template <int N>
+  void whitenResidualDiagonal(double* r) const;
+  template <int N, int Cols>
+  void whitenJacobianDiagonal(double* J) const;
 
  private:
   NoiseModel() = default;
@@ -104,6 +110,18 @@ void NoiseModel::whitenJacobianFixed(double* J) const {
   const Eigen::Matrix<double, K, Cols, Eigen::RowMajor> head = S.lazyProduct(M.template topRows<K>());
   M.template topRows<K>() = head;
   M.template bottomRows<N - K>() = inv_sigmas.asDiagonal() * M.template bottomRows<N - K>();
+}
+
+template <int N>
+void NoiseModel::whitenResidualDiagonal(double* r) const {
+  Eigen::Map<Eigen::Matrix<double, N, 1>> v(r);
+  v.array() *= Eigen::Map<const Eigen::Matrix<double, N, 1>>(inv_sigmas_.data()).array();
+}
+
+template <int N, int Cols>
+void NoiseModel::whitenJacobianDiagonal(double* J) const {
+  Eigen::Map<Eigen::Matrix<double, N, Cols, Eigen::RowMajor>> M(J);
+  M = Eigen::Map<const Eigen::Matrix<double, N, 1>>(inv_sigmas_.data()).asDiagonal() * M;
 }
 
 }  // namespace hdvio
