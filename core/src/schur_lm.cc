@@ -19,6 +19,7 @@ namespace hdvio {
 namespace {
 
 using schur_lm_blocks::addJtJ;
+using schur_lm_blocks::addTwoRowProduct;
 using schur_lm_blocks::applyLoss;
 using schur_lm_blocks::ConstRowMap;
 using schur_lm_blocks::ConstVecMap;
@@ -445,7 +446,8 @@ double SchurLm::modelCostChange() {
       if (slot.constant.J)
         jd.noalias() += slot.constant.J->middleCols(slot.constant_col[p], v.tangent) *
                         dx_.segment(v.dx_offset, v.tangent);
-      else
+      else if (slot.dim != 2 || !addTwoRowProduct(jd.data(), J_.data() + slot.keys[p].j_offset,
+                                                  v.tangent, dx_.data() + v.dx_offset))
         jd.noalias() += ConstRowMap(J_.data() + slot.keys[p].j_offset, slot.dim, v.tangent) *
                         dx_.segment(v.dx_offset, v.tangent);
     }

@@ -111,6 +111,30 @@ inline void addJtJ(double* out, int ld, int dim, int ta, int tc, const double* J
   o.noalias() += a.transpose().lazyProduct(c);
 }
 
+// jd (2) += J dx for a 2-row factor's block J (2 x cols, row-major) of 3 or 6 columns; false
+// (nothing done) otherwise. Summed as Eigen's dynamic-size row-major product sums with
+// two-double packets (SSE2, NEON): even and odd columns in two lanes, then the lanes; so the
+// model cost change is the same to the bit as with that product, without its dispatch.
+inline bool addTwoRowProduct(double* jd, const double* J, int cols, const double* dx) {
+  if (cols == 6) {
+    for (int r = 0; r < 2; ++r) {
+      const double* a = J + 6 * r;
+      const double even = (a[0] * dx[0] + a[2] * dx[2]) + a[4] * dx[4];
+      const double odd = (a[1] * dx[1] + a[3] * dx[3]) + a[5] * dx[5];
+      jd[r] += even + odd;
+    }
+    return true;
+  }
+  if (cols == 3) {
+    for (int r = 0; r < 2; ++r) {
+      const double* a = J + 3 * r;
+      jd[r] += (a[0] * dx[0] + a[1] * dx[1]) + a[2] * dx[2];
+    }
+    return true;
+  }
+  return false;
+}
+
 // Ceres' Corrector (internal/ceres/corrector.cc): the robust loss as a rescaled residual and
 // Jacobian, with the second-order term when rho'' > 0.
 inline void applyLoss(const ceres::LossFunction& loss, int dim, double* r, double* const* J,

@@ -4,6 +4,7 @@
 // byte-identical with either; the block kernel touches only its block.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <random>
 
@@ -105,6 +106,36 @@ TEST(SchurLmBlocks, WrittenLandmarkPoseBlockGivesTheAccumulatedOnesBits) {
     expectSetJtJSameBits<3, 3>(seed);
     expectSetJtJSameBits<6, 6>(seed);  // the dynamic-size fallback
   }
+}
+
+// J dx of a reprojection's blocks against Eigen's dynamic-size product: the same bits where
+// Eigen sums with two-double packets (the project's SSE2 / NEON builds), else within round-off.
+TEST(SchurLmBlocks, TwoRowProductGivesTheDynamicProductsBits) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  constexpr bool kPacketsOfTwo = Eigen::internal::packet_traits<double>::size == 2;
+  for (int cols : {3, 6}) {
+    for (int trial = 0; trial < 2000; ++trial) {
+      double J[12], dx[6];
+      for (double& x : J) x = u(rng) * std::pow(10.0, static_cast<int>(u(rng)));
+      for (double& x : dx) x = u(rng) * std::pow(10.0, static_cast<int>(u(rng)));
+      Eigen::VectorXd expected(2);
+      expected << u(rng), u(rng);
+      double actual[2] = {expected(0), expected(1)};
+      expected.noalias() += schur_lm_blocks::ConstRowMap(J, 2, cols) * schur_lm_blocks::ConstVecMap(dx, cols);
+      ASSERT_TRUE(schur_lm_blocks::addTwoRowProduct(actual, J, cols, dx));
+      for (int r = 0; r < 2; ++r) {
+        if (kPacketsOfTwo) {
+          EXPECT_EQ(actual[r], expected(r)) << cols << " columns, trial " << trial;
+        } else {
+          EXPECT_NEAR(actual[r], expected(r), 1e-12 * (1.0 + std::abs(expected(r))));
+        }
+      }
+    }
+  }
+  double J[8] = {0}, dx[4] = {0}, jd[2] = {1.0, 2.0};
+  EXPECT_FALSE(schur_lm_blocks::addTwoRowProduct(jd, J, 4, dx));
+  EXPECT_EQ(jd[1], 2.0);
 }
 
 }  // namespace
