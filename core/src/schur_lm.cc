@@ -28,6 +28,7 @@ using schur_lm_blocks::setJtJ;
 using schur_lm_blocks::landmarkColumns;
 using schur_lm_blocks::landmarkV;
 using schur_lm_blocks::subtractColumns3;
+using schur_lm_blocks::subtractLandmarkWtd;
 using schur_lm_blocks::subtractProduct;
 
 // Ceres' defaults for LEVENBERG_MARQUARDT (solver.h, levenberg_marquardt_strategy.cc).
@@ -426,8 +427,10 @@ bool SchurLm::solveStep(double radius) {
     for (const auto& [s, p] : b.uses) {
       const Slot& slot = slots_[s];
       const Variable& v = vars_[slot.keys[p].var];
-      const ConstRowMap W(W_.data() + slot.keys[p].w_offset, v.tangent, e.tangent);
-      t.noalias() -= W.transpose() * dx_.segment(v.dx_offset, v.tangent);
+      const double* w = W_.data() + slot.keys[p].w_offset;
+      if (e.tangent == 3 && subtractLandmarkWtd(t.data(), w, v.tangent, dx_.data() + v.dx_offset))
+        continue;
+      t.noalias() -= ConstRowMap(w, v.tangent, e.tangent).transpose() * dx_.segment(v.dx_offset, v.tangent);
     }
     dx_.segment(e.dx_offset, e.tangent).noalias() = b.A_inv * t;
   }

@@ -135,6 +135,19 @@ inline bool addTwoRowProduct(double* jd, const double* J, int cols, const double
   return false;
 }
 
+// t (3) -= W^T d for a landmark's W (rows x 3, row-major) with 3 or 6 rows; false (nothing
+// done) otherwise. Each entry sums its products in row order before subtracting, as Eigen's
+// dynamic-size column-major product does, so the back substitution keeps its bits.
+inline bool subtractLandmarkWtd(double* t, const double* W, int rows, const double* d) {
+  if (rows != 3 && rows != 6) return false;
+  for (int c = 0; c < 3; ++c) {
+    double sum = W[c] * d[0];
+    for (int r = 1; r < rows; ++r) sum += W[3 * r + c] * d[r];
+    t[c] -= sum;
+  }
+  return true;
+}
+
 // Ceres' Corrector (internal/ceres/corrector.cc): the robust loss as a rescaled residual and
 // Jacobian, with the second-order term when rho'' > 0.
 inline void applyLoss(const ceres::LossFunction& loss, int dim, double* r, double* const* J,

@@ -138,5 +138,35 @@ TEST(SchurLmBlocks, TwoRowProductGivesTheDynamicProductsBits) {
   EXPECT_EQ(jd[1], 2.0);
 }
 
+// The back substitution's t -= W^T d of a landmark against Eigen's dynamic-size product.
+TEST(SchurLmBlocks, LandmarkBackSubstitutionGivesTheDynamicProductsBits) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  constexpr bool kPacketsOfTwo = Eigen::internal::packet_traits<double>::size == 2;
+  for (int rows : {3, 6}) {
+    for (int trial = 0; trial < 2000; ++trial) {
+      double W[18], d[6];
+      for (double& x : W) x = u(rng) * std::pow(10.0, static_cast<int>(u(rng)));
+      for (double& x : d) x = u(rng) * std::pow(10.0, static_cast<int>(u(rng)));
+      Eigen::VectorXd expected(3);
+      expected << u(rng), u(rng), u(rng);
+      double actual[3] = {expected(0), expected(1), expected(2)};
+      expected.noalias() -= schur_lm_blocks::ConstRowMap(W, rows, 3).transpose() *
+                            schur_lm_blocks::ConstVecMap(d, rows);
+      ASSERT_TRUE(schur_lm_blocks::subtractLandmarkWtd(actual, W, rows, d));
+      for (int c = 0; c < 3; ++c) {
+        if (kPacketsOfTwo) {
+          EXPECT_EQ(actual[c], expected(c)) << rows << " rows, trial " << trial;
+        } else {
+          EXPECT_NEAR(actual[c], expected(c), 1e-12 * (1.0 + std::abs(expected(c))));
+        }
+      }
+    }
+  }
+  double W[12] = {0}, d[4] = {0}, t[3] = {1.0, 2.0, 3.0};
+  EXPECT_FALSE(schur_lm_blocks::subtractLandmarkWtd(t, W, 4, d));
+  EXPECT_EQ(t[2], 3.0);
+}
+
 }  // namespace
 }  // namespace hdvio
