@@ -108,29 +108,38 @@ TEST(SchurLmBlocks, WrittenLandmarkPoseBlockGivesTheAccumulatedOnesBits) {
   }
 }
 
-// J dx of a reprojection's blocks against Eigen's dynamic-size product: the same bits where
-// Eigen sums with two-double packets (the project's SSE2 / NEON builds), else within round-off.
+// Random entries over four decades, so that the order of a sum shows in its rounding.
+void fillSpread(std::mt19937* rng, double* x, int n) {
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int k = 0; k < n; ++k) x[k] = u(*rng) * std::pow(10.0, static_cast<int>(u(*rng)));
+}
+
+// An in-place kernel against Eigen's dynamic-size product: the same bits where Eigen sums with
+// two-double packets (the project's SSE2 / NEON builds), else within round-off.
+void expectSameAsDynamic(const double* actual, const Eigen::VectorXd& expected, int size) {
+  constexpr bool kPacketsOfTwo = Eigen::internal::packet_traits<double>::size == 2;
+  for (int k = 0; k < expected.size(); ++k) {
+    if (kPacketsOfTwo) {
+      EXPECT_EQ(actual[k], expected(k)) << "block size " << size << ", entry " << k;
+    } else {
+      EXPECT_NEAR(actual[k], expected(k), 1e-12 * (1.0 + std::abs(expected(k))));
+    }
+  }
+}
+
+// J dx of a reprojection's blocks in the model cost change.
 TEST(SchurLmBlocks, TwoRowProductGivesTheDynamicProductsBits) {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-3.0, 3.0);
-  constexpr bool kPacketsOfTwo = Eigen::internal::packet_traits<double>::size == 2;
   for (int cols : {3, 6}) {
     for (int trial = 0; trial < 2000; ++trial) {
-      double J[12], dx[6];
-      for (double& x : J) x = u(rng) * std::pow(10.0, static_cast<int>(u(rng)));
-      for (double& x : dx) x = u(rng) * std::pow(10.0, static_cast<int>(u(rng)));
-      Eigen::VectorXd expected(2);
-      expected << u(rng), u(rng);
-      double actual[2] = {expected(0), expected(1)};
+      double J[12], dx[6], actual[2];
+      fillSpread(&rng, J, 12);
+      fillSpread(&rng, dx, 6);
+      fillSpread(&rng, actual, 2);
+      Eigen::VectorXd expected = Eigen::Map<Eigen::Vector2d>(actual);
       expected.noalias() += schur_lm_blocks::ConstRowMap(J, 2, cols) * schur_lm_blocks::ConstVecMap(dx, cols);
       ASSERT_TRUE(schur_lm_blocks::addTwoRowProduct(actual, J, cols, dx));
-      for (int r = 0; r < 2; ++r) {
-        if (kPacketsOfTwo) {
-          EXPECT_EQ(actual[r], expected(r)) << cols << " columns, trial " << trial;
-        } else {
-          EXPECT_NEAR(actual[r], expected(r), 1e-12 * (1.0 + std::abs(expected(r))));
-        }
-      }
+      expectSameAsDynamic(actual, expected, cols);
     }
   }
   double J[8] = {0}, dx[4] = {0}, jd[2] = {1.0, 2.0};
@@ -138,29 +147,20 @@ TEST(SchurLmBlocks, TwoRowProductGivesTheDynamicProductsBits) {
   EXPECT_EQ(jd[1], 2.0);
 }
 
-// The back substitution's t -= W^T d of a landmark against Eigen's dynamic-size product.
+// A landmark's t -= W^T d in the back substitution.
 TEST(SchurLmBlocks, LandmarkBackSubstitutionGivesTheDynamicProductsBits) {
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-3.0, 3.0);
-  constexpr bool kPacketsOfTwo = Eigen::internal::packet_traits<double>::size == 2;
   for (int rows : {3, 6}) {
     for (int trial = 0; trial < 2000; ++trial) {
-      double W[18], d[6];
-      for (double& x : W) x = u(rng) * std::pow(10.0, static_cast<int>(u(rng)));
-      for (double& x : d) x = u(rng) * std::pow(10.0, static_cast<int>(u(rng)));
-      Eigen::VectorXd expected(3);
-      expected << u(rng), u(rng), u(rng);
-      double actual[3] = {expected(0), expected(1), expected(2)};
+      double W[18], d[6], actual[3];
+      fillSpread(&rng, W, 18);
+      fillSpread(&rng, d, 6);
+      fillSpread(&rng, actual, 3);
+      Eigen::VectorXd expected = Eigen::Map<Eigen::Vector3d>(actual);
       expected.noalias() -= schur_lm_blocks::ConstRowMap(W, rows, 3).transpose() *
                             schur_lm_blocks::ConstVecMap(d, rows);
       ASSERT_TRUE(schur_lm_blocks::subtractLandmarkWtd(actual, W, rows, d));
-      for (int c = 0; c < 3; ++c) {
-        if (kPacketsOfTwo) {
-          EXPECT_EQ(actual[c], expected(c)) << rows << " rows, trial " << trial;
-        } else {
-          EXPECT_NEAR(actual[c], expected(c), 1e-12 * (1.0 + std::abs(expected(c))));
-        }
-      }
+      expectSameAsDynamic(actual, expected, rows);
     }
   }
   double W[12] = {0}, d[4] = {0}, t[3] = {1.0, 2.0, 3.0};
