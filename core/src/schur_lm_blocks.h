@@ -2,7 +2,6 @@
 // The block kernels of schur_lm.cc: Schur-complement products, J^T J of small factors with
 // fixed sizes for the usual blocks, and Ceres' robust-loss correction. Internal to core/src.
 #include <cmath>
-#include <vector>
 
 #include <Eigen/Core>
 #include <ceres/loss_function.h>
