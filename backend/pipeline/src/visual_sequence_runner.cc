@@ -214,6 +214,9 @@ ImageRunOutput runVioOnImages(const Sequence& seq, const VioBackendOptions& opti
                      toSeconds(ref.t), frontend::toString(rec.stage).c_str(), rec.tracked_features,
                      usesDynamics(options.method) ? " and dynamics" : "");
       lost = true;
+    } else if (rec.reinitialized && !lost && !step.first && log) {
+      std::fprintf(stderr, "\nhdvio_run: map re-initialized at t=%.3f s (%d features)\n",
+                   toSeconds(ref.t), rec.tracked_features);
     } else if (lost) {
       if (log)
         std::fprintf(stderr, "hdvio_run: frontend tracking again at t=%.3f s after %d lost "
