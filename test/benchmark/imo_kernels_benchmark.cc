@@ -1,11 +1,15 @@
 // Per-call cost of the IMO filter's parts (they set its real-time factor on one core): one IMU
 // propagation step, one grid step at steady state (clone, displacement update between the
 // clones one window apart, marginalization of the oldest clone), and the displacement
-// network's forward pass over one window (the shipped architecture, random weights).
+// networks' forward pass over one window with random weights: the IMO release's architecture
+// (imo_blackbird.tcn, imo_dido_*.tcn), imo_dido.yaml's three of them in turn (about 3 MB of
+// weights, more than a core's L2: what an update costs in the filter), and the compact
+// architecture of the TLIO-style networks.
 // Run: hdvio_imo_benchmarks --benchmark_min_time=0.5
 #include <benchmark/benchmark.h>
 
 #include <random>
+#include <vector>
 
 #include "hdvio/backend/imo/imo_filter.h"
 #include "hdvio/learned/tcn.h"
@@ -82,9 +86,9 @@ learned::MatrixXf randomMatrix(std::mt19937* rng, long rows, long cols, float sc
   return m;
 }
 
-// The IMO displacement network (7 residual blocks, 248,771 parameters) with random weights.
-learned::Tcn imoNetwork(std::mt19937* rng) {
-  const learned::TcnArchitecture a = learned::TcnArchitecture::imo();
+// A displacement network of architecture a (7 residual blocks, 248,771 parameters for both
+// shipped ones) with random weights.
+learned::Tcn displacementNetwork(const learned::TcnArchitecture& a, std::mt19937* rng) {
   learned::TcnWeights w;
   w.input_mean = learned::VectorXf::Zero(a.input_channels);
   w.input_std = learned::VectorXf::Ones(a.input_channels);
@@ -108,13 +112,34 @@ learned::Tcn imoNetwork(std::mt19937* rng) {
   return learned::Tcn(a, w);
 }
 
-void BM_ImoNetworkWindow(benchmark::State& state) {
-  std::mt19937 rng(3);
-  const learned::Tcn tcn = imoNetwork(&rng);
+// One network of architecture a, window after window.
+void networkWindow(benchmark::State& state, const learned::TcnArchitecture& a, unsigned seed) {
+  std::mt19937 rng(seed);
+  const learned::Tcn tcn = displacementNetwork(a, &rng);
   const learned::MatrixXf window = randomMatrix(&rng, 6, tcn.architecture().window, 1.0f);
-  for (auto _ : state) benchmark::DoNotOptimize(tcn.predictWindow(window));
+  learned::TcnWorkspace workspace;
+  for (auto _ : state) benchmark::DoNotOptimize(tcn.predictWindow(window, &workspace));
+}
+
+void BM_ImoNetworkWindow(benchmark::State& state) {
+  networkWindow(state, learned::TcnArchitecture::imoRelease(), 3);
 }
 BENCHMARK(BM_ImoNetworkWindow);
+
+// Three networks of the release's architecture, each called once per iteration (one update).
+void BM_ImoEnsembleOfThreeWindow(benchmark::State& state) {
+  std::mt19937 rng(4);
+  std::vector<learned::Tcn> members;
+  for (int k = 0; k < 3; ++k) members.push_back(displacementNetwork(learned::TcnArchitecture::imoRelease(), &rng));
+  const learned::MatrixXf window = randomMatrix(&rng, 6, members.front().architecture().window, 1.0f);
+  learned::TcnWorkspace workspace;
+  for (auto _ : state)
+    for (const learned::Tcn& m : members) benchmark::DoNotOptimize(m.predictWindow(window, &workspace));
+}
+BENCHMARK(BM_ImoEnsembleOfThreeWindow);
+
+void BM_TlioNetworkWindow(benchmark::State& state) { networkWindow(state, learned::TcnArchitecture::imo(), 5); }
+BENCHMARK(BM_TlioNetworkWindow);
 
 }  // namespace
 }  // namespace hdvio
