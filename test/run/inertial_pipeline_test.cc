@@ -176,6 +176,22 @@ TEST(ImoPipeline, SourceCovarianceFromANetworkWithoutOneIsAnInputError) {
   }
 }
 
+// The shipped DIDO configs (imo_dido.yaml, net_only_dido.yaml) name networks that exist and read
+// one window (the DIDO flights themselves are outside the repository).
+TEST(ImoPipeline, ShippedDidoEnsembleConfigsBuild) {
+  const std::string dir = std::string(HDVIO_SOURCE_DIR) + "/config/experiments";
+  for (const std::string method : {"imo", "net_only"}) {
+    const std::string path = dir + "/" + method + "_dido.yaml";
+    std::ifstream in(path);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_FALSE(text.empty()) << path;
+    const ConfigReader cfg = ConfigReader::fromString(text, path);
+    std::string m;
+    cfg.read("method", &m);
+    EXPECT_NO_THROW(makeInertialPipeline(method, cfg, {path, dir})) << path;
+  }
+}
+
 // network.ensemble: networks of one recipe as one source; exactly one of weights and ensemble,
 // members that read the same window.
 TEST(ImoPipeline, NetworkEnsembleKeysAreChecked) {
