@@ -176,11 +176,11 @@ TEST(ImoPipeline, SourceCovarianceFromANetworkWithoutOneIsAnInputError) {
   }
 }
 
-// The shipped DIDO configs (imo_dido.yaml, net_only_dido.yaml) name networks that exist and read
+// The shipped DIDO configs (imo_dido.yaml, tlio_dido.yaml, net_only_dido.yaml) name networks that exist and read
 // one window (the DIDO flights themselves are outside the repository).
 TEST(ImoPipeline, ShippedDidoEnsembleConfigsBuild) {
   const std::string dir = std::string(HDVIO_SOURCE_DIR) + "/config/experiments";
-  for (const std::string method : {"imo", "net_only"}) {
+  for (const std::string method : {"imo", "tlio", "net_only"}) {
     const std::string path = dir + "/" + method + "_dido.yaml";
     std::ifstream in(path);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -211,7 +211,7 @@ TEST(ImoPipeline, NetworkEnsembleKeysAreChecked) {
               "exactly one of weights");
   expectError("method: imo\nnetwork: {}\n", "exactly one of weights");
   expectError("method: imo\nnetwork: {ensemble: []}\n", "the list is empty");
-  expectError("method: imo\nnetwork: {ensemble: [" + dido + ", " + models + "tlio_dido.tcn]}\n",
+  expectError("method: imo\nnetwork: {ensemble: [" + dido + ", " + models + "tlio_dido_1.tcn]}\n",
               "member 3 reads another window");
 }
 
