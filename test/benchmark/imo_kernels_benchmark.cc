@@ -3,8 +3,8 @@
 // clones one window apart, marginalization of the oldest clone), and the displacement
 // networks' forward pass over one window with random weights: the IMO release's architecture
 // (imo_blackbird.tcn), imo_dido.yaml's twelve 32-channel versions of it in turn (imo_dido_*.tcn,
-// about 1.3 MB of weights: what an update costs in the filter), and the compact architecture of
-// the TLIO-style networks.
+// about 1.3 MB of weights: what an update costs in the filter). The TLIO-style networks have the
+// same shapes (tlio_blackbird.tcn, tlio_dido_*.tcn), so these rows give their cost too.
 // Run: hdvio_imo_benchmarks --benchmark_min_time=0.5
 #include <benchmark/benchmark.h>
 
@@ -140,9 +140,6 @@ void BM_ImoDidoEnsembleWindow(benchmark::State& state) {
     for (const learned::Tcn& m : members) benchmark::DoNotOptimize(m.predictWindow(window, &workspace));
 }
 BENCHMARK(BM_ImoDidoEnsembleWindow);
-
-void BM_TlioNetworkWindow(benchmark::State& state) { networkWindow(state, learned::TcnArchitecture::imo(), 5); }
-BENCHMARK(BM_TlioNetworkWindow);
 
 }  // namespace
 }  // namespace hdvio
