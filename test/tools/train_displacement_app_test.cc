@@ -1,6 +1,6 @@
 // hdvio_train_displacement with validation flights (data.validation, the IMO release's way of
 // choosing its epoch on `val`): trains on all of data.train, validates on the listed flights,
-// and refuses to mix them with the other hold-out schemes.
+// refuses to mix them with the other hold-out schemes, and measures throughput without --out.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -68,6 +68,19 @@ TEST_F(TrainDisplacementApp, ValidationFlightsExcludeFolds) {
             std::string::npos)
       << o.output;
   EXPECT_FALSE(fs::exists(dir_ / "mixed.tcn"));
+}
+
+// Measuring the training throughput writes no network, so it needs no --out; a training does.
+TEST_F(TrainDisplacementApp, ThroughputNeedsNoOutputFile) {
+  const std::string config = writeConfig("bench.yaml", "  train: [train]\n  validation: [val]\n");
+  const auto o = test::runCommand(std::string(HDVIO_TRAIN_DISPLACEMENT_BINARY) + " --config " + config +
+                                  " --data_root " + dir_.string() + " --benchmark_batches 2 2>&1");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  EXPECT_NE(o.output.find("windows per CPU second"), std::string::npos) << o.output;
+  const auto no_out = test::runCommand(std::string(HDVIO_TRAIN_DISPLACEMENT_BINARY) + " --config " + config +
+                                       " --data_root " + dir_.string() + " 2>&1");
+  EXPECT_EQ(no_out.exit_code, 2) << no_out.output;
+  EXPECT_NE(no_out.output.find("--out is required"), std::string::npos) << no_out.output;
 }
 
 }  // namespace

@@ -78,9 +78,10 @@ learned::DisplacementTrainOptions readTraining(const ConfigReader& t) {
 }
 
 int run() {
-  if (FLAGS_config.empty() || FLAGS_out.empty()) {
-    throw InputError("", 0, "--config and --out are required (see --help)");
-  }
+  if (FLAGS_config.empty()) throw InputError("", 0, "--config is required (see --help)");
+  // A throughput measurement writes no network, so only a training needs --out.
+  if (FLAGS_out.empty() && FLAGS_benchmark_batches <= 0)
+    throw InputError("", 0, "--out is required (see --help)");
   const ConfigReader config = ConfigReader::fromFile(FLAGS_config);
   const ConfigReader data = config.section("data");
   std::vector<std::string> train_paths, validation_paths;
@@ -229,6 +230,7 @@ int main(int argc, char** argv) {
   hdvio::learned::pinReproducibleCpuKernels();  // the same weights on every machine
   hdvio::parseToolFlags(&argc, &argv, __FILE__,
       "usage: hdvio_train_displacement --config <train.yaml> --out <weights.tcn>\n"
+      "       hdvio_train_displacement --config <train.yaml> --benchmark_batches <n>\n"
       "trains the IMO / TLIO-style displacement network (libtorch)\n"
       "example: hdvio_train_displacement --config config/learned/imo_blackbird.yaml --out imo.tcn");
   return runTool(run);
